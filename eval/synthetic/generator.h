@@ -1,0 +1,81 @@
+#pragma once
+// Generates a complete synthetic benchmark scene in the LERF-Mask layout
+// (../shared/spec/inputs.md, ../shared/spec/evaluation.md):
+//
+//   images/frame_NNNNN.png        all views (ray traced, supersampled)
+//   images_train/                 the training views (every test_every-th view is a test view)
+//   sparse/0/*.txt                the true cameras and points sampled on the surfaces
+//   instance_gt/<stem>.png        exact instance ID maps (0 = background)
+//   sam2/<stem>.png               ID maps corrupted as real SAM2 masks are
+//   sam2/objects.json             names of the IDs
+//   test_mask/<k>/<name>.png      binary ground truth per test view and object
+//   queries.txt                   one query (object name) per line
+//   objects.json                  the object table (id, name, shape, hard case)
+//   scene.json                    how the scene was made (options, orbit, seed)
+//
+// and optionally the same scene in the 3DOVS layout (images/NN.png,
+// segmentations/, poses_bounds.npy) in a second folder.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "eval/synthetic/sam2_corruption.h"
+#include "eval/synthetic/scene_layout.h"
+#include "splat/camera.h"
+#include "splat/colmap_model.h"
+
+namespace synth {
+
+struct SynthOptions {
+  int views = 40;
+  int width = 320;
+  int height = 240;
+  uint64_t seed = 1;
+  int supersample = 3;         // samples per pixel along each axis (anti-aliasing)
+  int test_every = 8;          // view i is a test view when i % test_every == 0
+  double fov_x_degrees = 55.0;
+  double orbit_radius = 3.2;   // camera distance from the look-at point
+  double radius_jitter = 0.08;  // relative
+  double orbit_height = 1.5;   // camera height above the ground
+  double height_jitter = 0.35;  // absolute
+  int num_points = 6000;       // sparse points sampled on the surfaces
+  bool write_sparse = true;    // false: no sparse/ (for testing SfM from scratch)
+  std::filesystem::path ovs_dir;  // if set: also write the 3DOVS layout here
+  int ovs_test_views = 5;
+  Sam2CorruptionOptions sam2;
+
+  void Check() const;  // throws std::invalid_argument with a one-line message
+};
+
+// The orbit of cameras, one per view, in view order.
+std::vector<splat::Camera> orbit_cameras(const SynthOptions& options, const SceneLayout& layout);
+
+// Image file name of view i ("frame_00007.png").
+std::string view_name(int i);
+
+// Ray-traced images, exact ID maps and the sparse model of a scene, in memory.
+struct RenderedScene {
+  std::vector<splat::Camera> cameras;
+  std::vector<std::string> names;
+  std::vector<splat::ImageRGB> images;
+  std::vector<splat::IdMap> instance_maps;
+  splat::ColmapModel sparse;
+};
+
+class RayTracer;
+RenderedScene render_scene(const SynthOptions& options, const SceneLayout& layout);
+
+// Surface points seen from at least two views, with COLMAP tracks.
+splat::ColmapModel sample_sparse_model(const RayTracer& tracer,
+                                       const std::vector<splat::Camera>& cameras,
+                                       const std::vector<std::string>& names, int num_points,
+                                       uint64_t seed);
+
+// Generates the scene into out_dir. The scene is built in a temporary folder
+// beside out_dir and renamed into place at the end; an existing out_dir is
+// replaced only with force (otherwise std::runtime_error).
+void generate_scene(const SynthOptions& options, const std::filesystem::path& out_dir, bool force);
+
+}  // namespace synth

@@ -1,0 +1,96 @@
+#include "eval/synthetic/scene_layout.h"
+
+#include <cmath>
+#include <random>
+
+namespace synth {
+
+const char* shape_name(Shape s) {
+  switch (s) {
+    case Shape::kSphere: return "sphere";
+    case Shape::kBox: return "box";
+    case Shape::kCylinder: return "cylinder";
+    case Shape::kCone: return "cone";
+  }
+  return "?";
+}
+
+namespace {
+
+SceneObject make(int id, const char* name, Shape shape, Eigen::Vector3d pos, Eigen::Vector3d half,
+                 double yaw, Material m, const char* hard_case = "") {
+  SceneObject o;
+  o.id = id;
+  o.name = name;
+  o.shape = shape;
+  o.position = pos;
+  o.half_size = half;
+  o.yaw = yaw;
+  o.material = m;
+  o.hard_case = hard_case;
+  return o;
+}
+
+Material mat(Eigen::Vector3d base, Eigen::Vector3d accent, Pattern p, double freq,
+             double opacity = 1.0) {
+  return Material{base, accent, p, freq, opacity};
+}
+
+}  // namespace
+
+SceneLayout default_layout(uint64_t seed) {
+  std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + 17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  // Colours vary a little with the seed; hues stay those the names promise.
+  auto tint = [&](Eigen::Vector3d c) {
+    for (int k = 0; k < 3; ++k) c[k] = std::clamp(c[k] + 0.04 * u(rng), 0.0, 1.0);
+    return c;
+  };
+  using V = Eigen::Vector3d;
+  SceneLayout L;
+  L.texture_offset = V(100 * u(rng), 100 * u(rng), 100 * u(rng));
+  const double crate_yaw = 0.4;
+  const V crate_pos(0.55, 0.30, -0.50);
+  // The yellow crate sits flush against the blue crate's +x face (touching).
+  const V crate_x_axis(std::cos(crate_yaw), 0, -std::sin(crate_yaw));
+  const V small_crate_pos = crate_pos + 0.52 * crate_x_axis + V(0, -0.08, 0) +
+                            0.05 * V(std::sin(crate_yaw), 0, std::cos(crate_yaw));
+
+  L.objects = {
+      make(1, "red ball", Shape::kSphere, V(-0.9, 0.32, 0.4), V(0.32, 0.32, 0.32), 0,
+           mat(tint(V(0.75, 0.08, 0.06)), tint(V(0.95, 0.55, 0.35)), Pattern::kSpots, 9)),
+      make(2, "blue crate", Shape::kBox, crate_pos, V(0.3, 0.3, 0.3), crate_yaw,
+           mat(tint(V(0.10, 0.20, 0.70)), tint(V(0.55, 0.70, 0.95)), Pattern::kChecker, 7),
+           "touching"),
+      make(3, "yellow crate", Shape::kBox, small_crate_pos, V(0.22, 0.22, 0.22), crate_yaw,
+           mat(tint(V(0.90, 0.78, 0.10)), tint(V(0.60, 0.45, 0.05)), Pattern::kMottled, 10),
+           "touching"),
+      make(4, "green can", Shape::kCylinder, V(0.05, 0.35, 0.8), V(0.2, 0.35, 0.2), 0.3,
+           mat(tint(V(0.10, 0.60, 0.15)), tint(V(0.85, 0.95, 0.75)), Pattern::kStripes, 9)),
+      make(5, "purple cone", Shape::kCone, V(-0.25, 0.4, -0.75), V(0.3, 0.4, 0.3), 0,
+           mat(tint(V(0.45, 0.12, 0.55)), tint(V(0.85, 0.60, 0.90)), Pattern::kStripes, 8)),
+      make(6, "thin pole", Shape::kCylinder, V(1.0, 0.6, 0.05), V(0.025, 0.6, 0.025), 0,
+           mat(tint(V(0.95, 0.45, 0.05)), tint(V(0.30, 0.12, 0.02)), Pattern::kStripes, 12),
+           "thin"),
+      make(7, "small marble", Shape::kSphere, V(-0.4, 0.07, 0.55), V(0.07, 0.07, 0.07), 0,
+           mat(tint(V(0.95, 0.75, 0.85)), tint(V(0.55, 0.15, 0.40)), Pattern::kMottled, 30),
+           "small"),
+      make(8, "dark vase", Shape::kSphere, V(-1.05, 0.35, -0.45), V(0.2, 0.35, 0.2), 0,
+           mat(V(0.05, 0.05, 0.06), V(0.11, 0.10, 0.10), Pattern::kMottled, 10),
+           "dark object in a dark region"),
+      make(9, "glass sphere", Shape::kSphere, V(0.6, 0.28, 0.55), V(0.28, 0.28, 0.28), 0,
+           mat(tint(V(0.55, 0.90, 0.95)), tint(V(0.85, 0.98, 1.0)), Pattern::kMottled, 5, 0.4),
+           "semi-transparent"),
+      make(10, "brown book", Shape::kBox, V(-0.2, 0.06, -0.05), V(0.25, 0.06, 0.18), -0.5,
+           mat(tint(V(0.45, 0.25, 0.10)), tint(V(0.80, 0.65, 0.45)), Pattern::kStripes, 14)),
+  };
+  L.look_at = V(0.0, 0.3, 0.0);
+  L.dark_region_center = Eigen::Vector2d(-1.05, -0.45);
+  L.dark_region_radius = 0.55;
+  // The dome sector seen behind the vase from the opposite side of the orbit.
+  L.dark_azimuth = std::atan2(-0.45, -1.05);
+  L.dark_azimuth_halfwidth = 0.45;
+  return L;
+}
+
+}  // namespace synth

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Installs every Debian package op2gs needs and builds it (Release).
+# Idempotent and non-interactive: safe to run again; only missing packages are
+# installed and the build is incremental.
+#
+# Usage: scripts/setup.sh [--no-build] [--portable] [--build-dir DIR]
+set -euo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build_dir="$root/build"
+do_build=1
+portable=OFF
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --no-build) do_build=0 ;;
+    --portable) portable=ON ;;
+    --build-dir) build_dir="$2"; shift ;;
+    -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
+    *) echo "setup.sh: unknown option '$1'" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+packages=(
+  build-essential cmake ninja-build pkg-config git
+  libopencv-dev libopenimageio-dev openimageio-tools libtbb-dev libeigen3-dev
+  libceres-dev libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev
+  libcli11-dev libfmt-dev libspdlog-dev colmap clang-format
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  sudo_cmd=""
+  [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo_cmd apt-get update -q
+  $sudo_cmd apt-get install -y -q --no-install-recommends "${missing[@]}"
+else
+  echo "setup: all Debian packages present"
+fi
+
+if [ "$do_build" -eq 1 ]; then
+  cmake -S "$root" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DOP2GS_PORTABLE="$portable"
+  cmake --build "$build_dir" --parallel "$(nproc)"
+fi

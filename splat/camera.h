@@ -1,0 +1,53 @@
+#pragma once
+// Pinhole cameras in COLMAP's conventions.
+//
+// Camera frame: x right, y down, z forward. The pose is world-to-camera:
+// x_cam = R * x_world + t. Pixel coordinates follow COLMAP too: the centre of
+// pixel (i, j) is at (i + 0.5, j + 0.5), so u = fx * x / z + cx with cx = W / 2
+// for a centred principal point. The rasterizer uses the same convention.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+namespace splat {
+
+struct Camera {
+  int width = 0;
+  int height = 0;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // world-to-camera rotation
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();      // world-to-camera translation
+
+  Eigen::Vector3d center() const { return -R.transpose() * t; }
+  Eigen::Vector3d world_to_camera(const Eigen::Vector3d& x) const { return R * x + t; }
+  // Pixel coordinates of a camera-space point (z must be > 0).
+  Eigen::Vector2d camera_to_pixel(const Eigen::Vector3d& xc) const {
+    return {fx * xc.x() / xc.z() + cx, fy * xc.y() / xc.z() + cy};
+  }
+  Eigen::Vector2d project(const Eigen::Vector3d& x) const {
+    return camera_to_pixel(world_to_camera(x));
+  }
+  // World-space direction (unit) of the ray through pixel coordinates (u, v).
+  Eigen::Vector3d pixel_ray(double u, double v) const;
+
+  double tan_half_fov_x() const { return 0.5 * width / fx; }
+  double tan_half_fov_y() const { return 0.5 * height / fy; }
+
+  // The same camera for an image resized to new_width x new_height.
+  Camera resized(int new_width, int new_height) const;
+
+  // A camera at `eye` looking at `target` with world `up` (y up by default).
+  static Camera look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
+                        const Eigen::Vector3d& up, int width, int height, double fx, double fy);
+};
+
+// COLMAP stores rotations as unit quaternions qw qx qy qz.
+Eigen::Matrix3d rotation_from_quaternion(const Eigen::Vector4d& qwxyz);
+Eigen::Vector4d quaternion_from_rotation(const Eigen::Matrix3d& R);
+
+// The reference 3DGS scene extent ("cameras_extent"): 1.1 times the largest
+// distance of a camera centre from the mean of the camera centres.
+double scene_extent(const std::vector<Camera>& cameras);
+
+}  // namespace splat

@@ -1,0 +1,41 @@
+#pragma once
+// The Gaussian model as structure of arrays: one contiguous array per
+// parameter, each Gaussian's components adjacent (means[3*i + k]).
+//
+// Parameters are stored as the optimiser sees them (before activation):
+// opacity and instance opacity as logits (sigmoid), scales as logs (exp),
+// rotations as unnormalised quaternions w x y z. SH coefficients beyond the DC
+// term are stored coefficient-major, [i][coefficient 1..15][channel], like the
+// reference implementation's features_rest tensor; the PLY file stores them
+// channel-major and the PLY I/O converts.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace splat {
+
+inline constexpr int kMaxShDegree = 3;
+inline constexpr int kShRestCoeffs = 15;           // (3+1)^2 - 1
+inline constexpr int kShRestFloats = 3 * kShRestCoeffs;  // 45
+
+struct GaussianModel {
+  std::vector<float> means;         // 3 per Gaussian
+  std::vector<float> sh_dc;         // 3 per Gaussian
+  std::vector<float> sh_rest;       // 45 per Gaussian, [coefficient][channel]
+  std::vector<float> opacity_logits;  // 1 per Gaussian, sigma = sigmoid(logit)
+  std::vector<float> log_scales;    // 3 per Gaussian
+  std::vector<float> rotations;     // 4 per Gaussian, w x y z
+  // OP2GS: the instance opacity sigma* (as a logit) and the object label.
+  std::vector<float> instance_opacity_logits;  // 1 per Gaussian
+  std::vector<int32_t> labels;                 // 1 per Gaussian, 0 = background
+  bool has_instance_opacity = false;
+  bool has_labels = false;
+
+  size_t size() const { return opacity_logits.size(); }
+  // Resizes every array; new Gaussians are zero with identity rotation.
+  void resize(size_t n);
+  bool operator==(const GaussianModel&) const = default;
+};
+
+}  // namespace splat

@@ -1,0 +1,65 @@
+#pragma once
+// Float RGB images and integer ID maps, read and written through OpenImageIO.
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+namespace splat {
+
+// Interleaved float RGB, row-major, values in [0, 1].
+struct ImageRGB {
+  int width = 0;
+  int height = 0;
+  std::vector<float> data;  // size 3 * width * height
+
+  ImageRGB() = default;
+  ImageRGB(int w, int h) : width(w), height(h), data(size_t(3) * w * h, 0.0f) {}
+  float* pixel(int x, int y) { return data.data() + 3 * (size_t(y) * width + x); }
+  const float* pixel(int x, int y) const { return data.data() + 3 * (size_t(y) * width + x); }
+  size_t bytes() const { return data.size() * sizeof(float); }
+};
+
+// One integer ID per pixel (object IDs, 0 = background / unlabeled).
+struct IdMap {
+  int width = 0;
+  int height = 0;
+  std::vector<uint16_t> ids;  // size width * height
+
+  IdMap() = default;
+  IdMap(int w, int h) : width(w), height(h), ids(size_t(w) * h, 0) {}
+  uint16_t& at(int x, int y) { return ids[size_t(y) * width + x]; }
+  uint16_t at(int x, int y) const { return ids[size_t(y) * width + x]; }
+};
+
+// Reads PNG (8/16 bit), JPEG, EXR, or anything else OpenImageIO reads, to RGB
+// in [0, 1]. Grey images are replicated to RGB; an alpha channel is dropped;
+// float (HDR) values are clamped to [0, 1]. Throws InputError naming the file.
+ImageRGB read_image_rgb(const std::filesystem::path& file);
+
+// Writes RGB atomically. The extension picks the format: .png and .jpg are
+// written as 8 bit, .exr as half float, .tif as 16 bit.
+void write_image_rgb(const std::filesystem::path& file, const ImageRGB& image);
+
+// Downscales by an integer factor with an area (box) filter: OpenCV's
+// INTER_AREA to round(W / factor) x round(H / factor), as the reference 3DGS
+// loader sizes its downsampled images.
+ImageRGB downscale_area(const ImageRGB& image, int factor);
+// Resizes with an area filter to an exact size (for images_N folders whose
+// size is off by rounding, and for a maximum-width resolution option).
+ImageRGB resize_area(const ImageRGB& image, int width, int height);
+
+// ID maps are single-channel 8- or 16-bit PNGs (../shared/spec/inputs.md).
+// Anything with more than one channel, or not an integer type of 8/16 bits,
+// is rejected with an InputError naming the file.
+IdMap read_id_map(const std::filesystem::path& file);
+// Writes a single-channel PNG atomically with bits = 8 or 16; 8 bits requires
+// every ID <= 255.
+void write_id_map(const std::filesystem::path& file, const IdMap& map, int bits);
+
+// A binary mask as an 8-bit PNG with values 0 and 255 (the format of the
+// benchmarks' ground-truth masks).
+void write_mask_png(const std::filesystem::path& file, int width, int height,
+                    const std::vector<uint8_t>& inside);
+
+}  // namespace splat

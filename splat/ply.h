@@ -1,0 +1,28 @@
+#pragma once
+// Gaussian models as PLY files in the layout every 3DGS viewer reads
+// (../shared/spec/gaussian-splatting.md): a binary little-endian "vertex"
+// element with float properties
+//   x y z nx ny nz f_dc_0..2 f_rest_0..44 opacity scale_0..2 rot_0..3
+// followed, for OP2GS models, by
+//   float instance_opacity   (logit of sigma*)
+//   int   label              (object ID, 0 = background)
+//
+// Reading accepts binary little-endian and ASCII files with the properties in
+// any order and of any scalar type, extra properties (ignored), fewer f_rest
+// coefficients (lower SH degrees; the rest are zero), and files without the
+// OP2GS properties. Malformed or truncated files throw InputError naming the
+// file.
+
+#include <filesystem>
+
+#include "splat/gaussians.h"
+
+namespace splat {
+
+GaussianModel read_gaussian_ply(const std::filesystem::path& file);
+
+// Writes binary little-endian, atomically. The OP2GS properties are written
+// when the model has them (has_instance_opacity / has_labels).
+void write_gaussian_ply(const std::filesystem::path& file, const GaussianModel& model);
+
+}  // namespace splat

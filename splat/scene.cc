@@ -1,0 +1,109 @@
+#include "splat/scene.h"
+
+#include <fmt/format.h>
+
+#include <OpenImageIO/imageio.h>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "splat/colmap_model.h"
+#include "splat/error.h"
+
+namespace splat {
+namespace fs = std::filesystem;
+
+void SceneOptions::Check() const {
+  if (downscale != 1 && downscale != 2 && downscale != 4 && downscale != 8)
+    throw std::invalid_argument(fmt::format("downscale must be 1, 2, 4 or 8, not {}", downscale));
+  if (max_width < 0) throw std::invalid_argument("max_width must be >= 0");
+  if (cache_bytes == 0) throw std::invalid_argument("cache_bytes must be > 0");
+}
+
+std::pair<int, int> image_size(const fs::path& file) {
+  if (!fs::exists(file)) throw InputError(file, "image file does not exist");
+  auto in = OIIO::ImageInput::open(file.string());
+  if (!in) throw InputError(file, "cannot read image: " + OIIO::geterror());
+  return {in->spec().width, in->spec().height};
+}
+
+namespace {
+
+// The resolution a view is trained at, from its full size and the options.
+std::pair<int, int> target_size(int width, int height, const SceneOptions& o) {
+  if (o.max_width > 0 && width > o.max_width) {
+    const double s = double(o.max_width) / width;
+    return {o.max_width, std::max(1, int(std::lround(height * s)))};
+  }
+  return {std::max(1, int(std::lround(double(width) / o.downscale))),
+          std::max(1, int(std::lround(double(height) / o.downscale)))};
+}
+
+}  // namespace
+
+std::unique_ptr<Scene> Scene::load(const fs::path& root, const SceneOptions& options) {
+  options.Check();
+  auto scene = std::make_unique<Scene>();
+  scene->root_ = root;
+  const fs::path sparse = root / options.sparse_dir;
+  const ColmapModel model = read_colmap_model(sparse);
+  if (model.images.empty()) throw InputError(sparse, "COLMAP model has no registered images");
+
+  const fs::path full_dir = root / options.images_dir;
+  const fs::path scaled_dir =
+      root / fmt::format("{}_{}", options.images_dir, options.downscale);
+  const bool use_scaled = options.downscale > 1 && options.max_width == 0 && fs::is_directory(scaled_dir);
+
+  for (const auto& [id, im] : model.images) {
+    View v;
+    v.name = im.name;
+    const Camera full = pinhole_camera(model, im, sparse);
+    const auto [w, h] = target_size(full.width, full.height, options);
+    v.camera = full.resized(w, h);
+    v.file = (use_scaled ? scaled_dir : full_dir) / im.name;
+    if (!fs::exists(v.file))
+      throw InputError(v.file, fmt::format("image '{}' of the COLMAP model is missing", im.name));
+    scene->views_.push_back(std::move(v));
+  }
+  std::sort(scene->views_.begin(), scene->views_.end(),
+            [](const View& a, const View& b) { return a.name < b.name; });
+
+  for (const auto& [id, p] : model.points3d) {
+    scene->points_.push_back(p.xyz);
+    scene->point_colors_.emplace_back(p.rgb[0] / 255.f, p.rgb[1] / 255.f, p.rgb[2] / 255.f);
+  }
+  scene->extent_ = scene_extent(scene->cameras());
+  Scene* raw = scene.get();
+  scene->cache_ = std::make_unique<ViewCache>([raw](size_t i) { return raw->load_view(i); },
+                                              options.cache_bytes);
+  return scene;
+}
+
+ImageRGB Scene::load_view(size_t i) const {
+  const View& v = views_.at(i);
+  ImageRGB image = read_image_rgb(v.file);
+  if (image.width == v.camera.width && image.height == v.camera.height) return image;
+  // A full-size file, or an images_N file whose rounding differs by a pixel.
+  // Same aspect ratio up to the rounding of a downscaled size.
+  const double scaled_height = double(image.height) * v.camera.width / image.width;
+  if (std::abs(scaled_height - v.camera.height) > 1.0)
+    throw InputError(v.file, fmt::format("image is {}x{} but its camera is {}x{} (aspect ratio "
+                                         "differs)",
+                                         image.width, image.height, v.camera.width,
+                                         v.camera.height));
+  return resize_area(image, v.camera.width, v.camera.height);
+}
+
+std::vector<Camera> Scene::cameras() const {
+  std::vector<Camera> cams;
+  for (const View& v : views_) cams.push_back(v.camera);
+  return cams;
+}
+
+int Scene::find_view(const std::string& name) const {
+  for (size_t i = 0; i < views_.size(); ++i)
+    if (views_[i].name == name) return int(i);
+  return -1;
+}
+
+}  // namespace splat

@@ -1,0 +1,49 @@
+#pragma once
+// A bounded, thread-safe, least-recently-used cache of decoded views, so that
+// a scene of thousands of views never needs all of them in memory at once.
+
+#include <cstddef>
+#include <functional>
+#include <list>
+#include <memory>
+#include <mutex>
+#include <unordered_map>
+
+#include "splat/image.h"
+
+namespace splat {
+
+class ViewCache {
+ public:
+  using Loader = std::function<ImageRGB(size_t index)>;
+
+  // max_bytes bounds the decoded pixels held; one view larger than the bound
+  // is still returned, just not kept.
+  ViewCache(Loader loader, size_t max_bytes);
+
+  // The image of view `index`, loaded on a miss. The returned pointer stays
+  // valid after eviction.
+  std::shared_ptr<const ImageRGB> get(size_t index);
+
+  size_t bytes_held() const;
+  size_t views_held() const;
+  size_t loads() const;  // number of decodes so far (misses)
+  size_t max_bytes() const { return max_bytes_; }
+
+ private:
+  void evict_to_fit_locked();
+
+  Loader loader_;
+  size_t max_bytes_;
+  mutable std::mutex mutex_;
+  std::list<size_t> lru_;  // front = most recently used
+  struct Entry {
+    std::shared_ptr<const ImageRGB> image;
+    std::list<size_t>::iterator position;
+  };
+  std::unordered_map<size_t, Entry> entries_;
+  size_t bytes_ = 0;
+  size_t loads_ = 0;
+};
+
+}  // namespace splat

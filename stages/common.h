@@ -1,0 +1,38 @@
+#pragma once
+// What every stage's main does around the library call: one-line errors on
+// stderr and a non-zero exit for bad input, logging set up the same way.
+
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <functional>
+
+#include "splat/error.h"
+
+namespace stages {
+
+// Parses the command line and runs body; returns the process exit code:
+// 0 on success, 1 for bad input or a failed run, 2 for bad options.
+inline int run_stage(CLI::App& app, int argc, char** argv, const std::function<void()>& body) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  spdlog::set_pattern("[%H:%M:%S] %v");
+  try {
+    body();
+    return 0;
+  } catch (const splat::InputError& e) {
+    spdlog::error("{}", e.what());
+  } catch (const std::invalid_argument& e) {
+    spdlog::error("invalid option: {}", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+  }
+  return 1;
+}
+
+}  // namespace stages

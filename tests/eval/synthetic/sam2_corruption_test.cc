@@ -1,0 +1,96 @@
+#include "eval/synthetic/sam2_corruption.h"
+
+#include <gtest/gtest.h>
+
+namespace synth {
+namespace {
+
+// Two touching rectangles and a small square on a background.
+splat::IdMap blocks() {
+  splat::IdMap m(160, 120);
+  for (int y = 30; y < 90; ++y)
+    for (int x = 20; x < 140; ++x) m.at(x, y) = x < 80 ? 1 : 2;
+  for (int y = 100; y < 108; ++y)
+    for (int x = 10; x < 18; ++x) m.at(x, y) = 3;
+  return m;
+}
+
+double iou(const splat::IdMap& a, const splat::IdMap& b, int id) {
+  size_t inter = 0, uni = 0;
+  for (size_t i = 0; i < a.ids.size(); ++i) {
+    inter += a.ids[i] == id && b.ids[i] == id;
+    uni += a.ids[i] == id || b.ids[i] == id;
+  }
+  return uni ? double(inter) / uni : 1.0;
+}
+
+TEST(Sam2Corruption, ZeroStrengthIsExact) {
+  Sam2CorruptionOptions o;
+  o.strength = 0;
+  EXPECT_EQ(corrupt_like_sam2(blocks(), {1, 2, 3}, o, 5).ids, blocks().ids);
+}
+
+TEST(Sam2Corruption, DefaultCorruptsButKeepsObjectsRecognisable) {
+  const splat::IdMap truth = blocks();
+  double mean = 0;
+  int changed = 0;
+  for (uint64_t seed = 0; seed < 20; ++seed) {
+    const splat::IdMap m = corrupt_like_sam2(truth, {1, 2, 3}, Sam2CorruptionOptions{}, seed);
+    for (int id : {1, 2}) {
+      const double v = iou(truth, m, id);
+      mean += v / 40;
+      changed += v < 0.999;
+    }
+  }
+  EXPECT_GT(mean, 0.75);
+  EXPECT_LT(mean, 0.99);
+  EXPECT_GT(changed, 30);
+}
+
+TEST(Sam2Corruption, EachEffectAlone) {
+  const splat::IdMap truth = blocks();
+  Sam2CorruptionOptions none;
+  none.boundary_jitter_px = none.miss_probability = none.leak_probability = none.spurious_blobs = 0;
+
+  Sam2CorruptionOptions miss = none;
+  miss.miss_probability = 1;
+  const splat::IdMap missed = corrupt_like_sam2(truth, {1, 2, 3}, miss, 1);
+  for (size_t i = 0; i < truth.ids.size(); ++i)
+    ASSERT_TRUE(missed.ids[i] == truth.ids[i] || missed.ids[i] == 0) << "misses only erase";
+  EXPECT_LT(iou(truth, missed, 1), 1.0);
+
+  Sam2CorruptionOptions leak = none;
+  leak.leak_probability = 1;
+  const splat::IdMap leaked = corrupt_like_sam2(truth, {1, 2, 3}, leak, 1);
+  size_t one_into_two = 0;
+  for (size_t i = 0; i < truth.ids.size(); ++i) one_into_two += truth.ids[i] == 2 && leaked.ids[i] == 1;
+  EXPECT_GT(one_into_two, 0u) << "object 1 touches 2, so it leaks onto 2";
+
+  Sam2CorruptionOptions jitter = none;
+  jitter.boundary_jitter_px = 3;
+  const splat::IdMap jittered = corrupt_like_sam2(truth, {1, 2, 3}, jitter, 1);
+  EXPECT_LT(iou(truth, jittered, 1), 1.0);
+  EXPECT_GT(iou(truth, jittered, 1), 0.8);
+
+  Sam2CorruptionOptions blobs = none;
+  blobs.spurious_blobs = 20;
+  const splat::IdMap blobbed = corrupt_like_sam2(truth, {1, 2, 3}, blobs, 1);
+  size_t background_labelled = 0;
+  for (size_t i = 0; i < truth.ids.size(); ++i) background_labelled += truth.ids[i] == 0 && blobbed.ids[i] != 0;
+  EXPECT_GT(background_labelled, 0u);
+}
+
+TEST(Sam2Corruption, DeterministicForSeed) {
+  const Sam2CorruptionOptions o;
+  EXPECT_EQ(corrupt_like_sam2(blocks(), {1, 2, 3}, o, 9).ids, corrupt_like_sam2(blocks(), {1, 2, 3}, o, 9).ids);
+  EXPECT_NE(corrupt_like_sam2(blocks(), {1, 2, 3}, o, 9).ids, corrupt_like_sam2(blocks(), {1, 2, 3}, o, 10).ids);
+}
+
+TEST(Sam2Corruption, RejectsNegativeOptions) {
+  Sam2CorruptionOptions o;
+  o.miss_probability = -0.1;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace synth
