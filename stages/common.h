@@ -3,6 +3,7 @@
 // stderr and a non-zero exit for bad input, logging set up the same way.
 
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
 #include <exception>
@@ -11,6 +12,13 @@
 #include "splat/error.h"
 
 namespace stages {
+
+// Peak resident memory of this process so far, in MiB.
+inline double peak_rss_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
+}
 
 // Parses the command line and runs body; returns the process exit code:
 // 0 on success, 1 for bad input or a failed run, 2 for bad options.
@@ -23,6 +31,7 @@ inline int run_stage(CLI::App& app, int argc, char** argv, const std::function<v
   spdlog::set_pattern("[%H:%M:%S] %v");
   try {
     body();
+    spdlog::info("peak memory {:.0f} MiB", peak_rss_mib());
     return 0;
   } catch (const splat::InputError& e) {
     spdlog::error("{}", e.what());
