@@ -1,0 +1,315 @@
+#include "splat/render/project.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "splat/render/sh.h"
+
+namespace splat {
+
+using Mat3 = Eigen::Matrix3f;
+using Vec3 = Eigen::Vector3f;
+using Mat23 = Eigen::Matrix<float, 2, 3>;
+
+void GaussianGradients::resize(size_t n) {
+  means.assign(3 * n, 0.f);
+  sh_dc.assign(3 * n, 0.f);
+  sh_rest.assign(kShRestFloats * n, 0.f);
+  opacity_logits.assign(n, 0.f);
+  log_scales.assign(3 * n, 0.f);
+  rotations.assign(4 * n, 0.f);
+  instance_opacity_logits.assign(n, 0.f);
+  mean2d_ndc.assign(2 * n, 0.f);
+  visible.assign(n, 0);
+}
+
+void ProjectedGradients::resize(size_t n) {
+  mean2d.assign(2 * n, 0.f);
+  conic.assign(3 * n, 0.f);
+  depth.assign(n, 0.f);
+  color.assign(3 * n, 0.f);
+  opacity.assign(n, 0.f);
+  instance_opacity.assign(n, 0.f);
+}
+
+namespace {
+
+float sigmoid(float x) { return 1.f / (1.f + std::exp(-x)); }
+
+// Rotation matrix of the normalised quaternion w x y z.
+Mat3 quaternion_matrix(float w, float x, float y, float z) {
+  Mat3 R;
+  R << 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
+      2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+      2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y);
+  return R;
+}
+
+// The per-camera constants every Gaussian needs.
+struct View {
+  Mat3 R;
+  Vec3 t, center;
+  float fx, fy, cx, cy, lim_x, lim_y;
+  explicit View(const Camera& c)
+      : R(c.R.cast<float>()),
+        t(c.t.cast<float>()),
+        center(c.center().cast<float>()),
+        fx(float(c.fx)),
+        fy(float(c.fy)),
+        cx(float(c.cx)),
+        cy(float(c.cy)),
+        lim_x(kFovClamp * float(c.tan_half_fov_x())),
+        lim_y(kFovClamp * float(c.tan_half_fov_y())) {}
+};
+
+// The projection Jacobian at camera-space point pv, with the reference's
+// clamp of the projected direction at 1.3 tan(fov/2).
+Mat23 projection_jacobian(const View& v, const Vec3& pv) {
+  const float z = pv.z();
+  const float uc = std::clamp(pv.x() / z, -v.lim_x, v.lim_x);
+  const float wc = std::clamp(pv.y() / z, -v.lim_y, v.lim_y);
+  Mat23 J;
+  J << v.fx / z, 0, -v.fx * uc / z, 0, v.fy / z, -v.fy * wc / z;
+  return J;
+}
+
+Mat3 world_covariance(const GaussianModel& m, size_t i, Mat3* rotation = nullptr) {
+  const float* q = &m.rotations[4 * i];
+  const float qn = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  const Mat3 R = quaternion_matrix(q[0] / qn, q[1] / qn, q[2] / qn, q[3] / qn);
+  if (rotation) *rotation = R;
+  const Vec3 s(std::exp(m.log_scales[3 * i]), std::exp(m.log_scales[3 * i + 1]),
+               std::exp(m.log_scales[3 * i + 2]));
+  const Mat3 M = R * s.asDiagonal();
+  return M * M.transpose();
+}
+
+void evaluate_color(const GaussianModel& m, size_t i, const Vec3& dir, int degree, float rgb[3],
+                    uint8_t clamped[3]) {
+  float basis[kShCoeffs];
+  sh_basis(degree, dir.data(), basis);
+  const int n = (degree + 1) * (degree + 1);
+  for (int c = 0; c < 3; ++c) {
+    float v = basis[0] * m.sh_dc[3 * i + c];
+    for (int k = 1; k < n; ++k) v += basis[k] * m.sh_rest[kShRestFloats * i + 3 * (k - 1) + c];
+    v += 0.5f;
+    clamped[c] = v < 0;
+    rgb[c] = std::max(v, 0.f);
+  }
+}
+
+// Projects Gaussian i; returns false when it is culled.
+bool project_one(const GaussianModel& m, const View& v, const Camera& cam, size_t i,
+                 ProjectedGaussians& p) {
+  const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
+  const Vec3 pv = v.R * mean + v.t;
+  if (!(pv.z() > kNearPlane)) return false;
+  const float sigma = sigmoid(m.opacity_logits[i]);
+  if (!(sigma >= kMinAlpha)) return false;  // alpha never reaches 1/255 anywhere
+  const Mat23 T = projection_jacobian(v, pv) * v.R;
+  const Eigen::Matrix2f cov = T * world_covariance(m, i) * T.transpose();
+  const float a = cov(0, 0) + kLowPass, b = cov(0, 1), c = cov(1, 1) + kLowPass;
+  const float det = a * c - b * b;
+  if (!(det > 0)) return false;
+  const float mid = 0.5f * (a + c);
+  const float lambda = mid + std::sqrt(std::max(0.1f, mid * mid - det));
+  const int radius = int(std::ceil(3.f * std::sqrt(lambda)));
+  const float u = v.fx * pv.x() / pv.z() + v.cx, w = v.fy * pv.y() / pv.z() + v.cy;
+
+  // The reference's tile rectangle, in its pixel coordinates (centres at integers).
+  auto rect = [](float center, int r, int tiles) {
+    const int lo = std::clamp(int((center - r) / kTileSize), 0, tiles);
+    const int hi = std::clamp(int((center + r + kTileSize - 1) / kTileSize), 0, tiles);
+    return std::pair{lo, hi};
+  };
+  auto [x0, x1] = rect(u - 0.5f, radius, p.tiles_x);
+  auto [y0, y1] = rect(w - 0.5f, radius, p.tiles_y);
+  // Narrow to where sigma G >= 1/255: d^T Q d <= 2 ln(255 sigma), an ellipse
+  // with half-extents sqrt(2 ln(255 sigma) cov_xx) and ..._yy; with a margin.
+  const float level = 2.f * std::log(255.f * sigma);
+  const float ext_x = 1.001f * std::sqrt(level * a) + 0.01f;
+  const float ext_y = 1.001f * std::sqrt(level * c) + 0.01f;
+  x0 = std::max(x0, int(std::floor((u - ext_x - 0.5f) / kTileSize)));
+  x1 = std::min(x1, int(std::floor((u + ext_x - 0.5f) / kTileSize)) + 1);
+  y0 = std::max(y0, int(std::floor((w - ext_y - 0.5f) / kTileSize)));
+  y1 = std::min(y1, int(std::floor((w + ext_y - 0.5f) / kTileSize)) + 1);
+  if (x1 <= x0 || y1 <= y0) return false;
+
+  p.mean2d[2 * i] = u;
+  p.mean2d[2 * i + 1] = w;
+  p.conic[3 * i] = c / det;
+  p.conic[3 * i + 1] = -b / det;
+  p.conic[3 * i + 2] = a / det;
+  p.depth[i] = pv.z();
+  p.radius[i] = radius;
+  p.reach[2 * i] = ext_x;
+  p.reach[2 * i + 1] = ext_y;
+  int32_t* r = &p.tile_rect[4 * i];
+  r[0] = x0, r[1] = y0, r[2] = x1, r[3] = y1;
+  p.opacity[i] = sigma;
+  p.instance_opacity[i] =
+      m.has_instance_opacity ? sigmoid(m.instance_opacity_logits[i]) : sigma;
+  (void)cam;
+  return true;
+}
+
+}  // namespace
+
+void project_gaussians(const GaussianModel& m, const Camera& cam, const RenderSettings& s,
+                       ProjectedGaussians& p) {
+  const size_t n = m.size();
+  p.tiles_x = (cam.width + kTileSize - 1) / kTileSize;
+  p.tiles_y = (cam.height + kTileSize - 1) / kTileSize;
+  p.mean2d.assign(2 * n, 0.f);
+  p.conic.assign(3 * n, 0.f);
+  p.depth.assign(n, 0.f);
+  p.radius.assign(n, 0);
+  p.tile_rect.assign(4 * n, 0);
+  p.reach.assign(2 * n, 0.f);
+  p.opacity.assign(n, 0.f);
+  p.instance_opacity.assign(n, 0.f);
+  p.color.assign(s.color ? 3 * n : 0, 0.f);
+  p.color_clamped.assign(s.color ? 3 * n : 0, 0);
+  const View v(cam);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& range) {
+    for (size_t i = range.begin(); i < range.end(); ++i) {
+      if (!project_one(m, v, cam, i, p)) continue;
+      if (s.color) {
+        const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
+        evaluate_color(m, i, (mean - v.center).normalized(), s.sh_degree, &p.color[3 * i],
+                       &p.color_clamped[3 * i]);
+      }
+    }
+  });
+}
+
+namespace {
+
+// d R(q) / d q for the normalised quaternion, contracted with dL/dR.
+Eigen::Vector4f quaternion_matrix_backward(const Eigen::Vector4f& q, const Mat3& gR) {
+  const float w = q[0], x = q[1], y = q[2], z = q[3];
+  Eigen::Vector4f g;
+  g[0] = 2 * (-z * gR(0, 1) + y * gR(0, 2) + z * gR(1, 0) - x * gR(1, 2) - y * gR(2, 0) + x * gR(2, 1));
+  g[1] = 2 * (y * gR(0, 1) + z * gR(0, 2) + y * gR(1, 0) - 2 * x * gR(1, 1) - w * gR(1, 2) +
+              z * gR(2, 0) + w * gR(2, 1) - 2 * x * gR(2, 2));
+  g[2] = 2 * (-2 * y * gR(0, 0) + x * gR(0, 1) + w * gR(0, 2) + x * gR(1, 0) + z * gR(1, 2) -
+              w * gR(2, 0) + z * gR(2, 1) - 2 * y * gR(2, 2));
+  g[3] = 2 * (-2 * z * gR(0, 0) - w * gR(0, 1) + x * gR(0, 2) + w * gR(1, 0) - 2 * z * gR(1, 1) +
+              y * gR(1, 2) + x * gR(2, 0) + y * gR(2, 1));
+  return g;
+}
+
+void backward_one(const GaussianModel& m, const View& v, const RenderSettings& s,
+                  const ProjectedGaussians& p, const ProjectedGradients& pg, size_t i,
+                  GaussianGradients& g) {
+  const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
+  const Vec3 pv = v.R * mean + v.t;
+  const float x = pv.x(), y = pv.y(), z = pv.z();
+  Vec3 g_pv(0, 0, pg.depth[i]);
+
+  // 2D mean: u = fx x / z + cx, v = fy y / z + cy.
+  const float gu = pg.mean2d[2 * i], gw = pg.mean2d[2 * i + 1];
+  g_pv.x() += gu * v.fx / z;
+  g_pv.y() += gw * v.fy / z;
+  g_pv.z() += -gu * v.fx * x / (z * z) - gw * v.fy * y / (z * z);
+
+  // Conic (inverse of the low-passed 2D covariance) -> 2D covariance.
+  const float A = p.conic[3 * i], B = p.conic[3 * i + 1], C = p.conic[3 * i + 2];
+  Eigen::Matrix2f Q, gQ;
+  Q << A, B, B, C;
+  gQ << pg.conic[3 * i], 0.5f * pg.conic[3 * i + 1], 0.5f * pg.conic[3 * i + 1], pg.conic[3 * i + 2];
+  const Eigen::Matrix2f gCov = -Q * gQ * Q;  // symmetric
+
+  // 2D covariance = T Sigma T^T with T = J W.
+  Mat3 Rq;
+  const Mat3 Sigma = world_covariance(m, i, &Rq);
+  const Mat23 J = projection_jacobian(v, pv);
+  const Mat23 T = J * v.R;
+  const Mat3 gSigma = T.transpose() * gCov * T;
+  const Mat23 gT = 2.f * gCov * T * Sigma;
+  const Mat23 gJ = gT * v.R.transpose();
+
+  // Jacobian entries -> camera-space point, exact through the clamp.
+  const float u_raw = x / z, w_raw = y / z;
+  const float uc = std::clamp(u_raw, -v.lim_x, v.lim_x);
+  const float wc = std::clamp(w_raw, -v.lim_y, v.lim_y);
+  const float g_uc = -gJ(0, 2) * v.fx / z;
+  const float g_wc = -gJ(1, 2) * v.fy / z;
+  g_pv.z() += -gJ(0, 0) * v.fx / (z * z) + gJ(0, 2) * v.fx * uc / (z * z) -
+              gJ(1, 1) * v.fy / (z * z) + gJ(1, 2) * v.fy * wc / (z * z);
+  if (u_raw > -v.lim_x && u_raw < v.lim_x) {
+    g_pv.x() += g_uc / z;
+    g_pv.z() += -g_uc * x / (z * z);
+  }
+  if (w_raw > -v.lim_y && w_raw < v.lim_y) {
+    g_pv.y() += g_wc / z;
+    g_pv.z() += -g_wc * y / (z * z);
+  }
+  Vec3 g_mean = v.R.transpose() * g_pv;
+
+  // Sigma = M M^T, M = R diag(s).
+  const Vec3 s_vec(std::exp(m.log_scales[3 * i]), std::exp(m.log_scales[3 * i + 1]),
+                   std::exp(m.log_scales[3 * i + 2]));
+  const Mat3 M = Rq * s_vec.asDiagonal();
+  const Mat3 gM = (gSigma + gSigma.transpose()) * M;
+  for (int k = 0; k < 3; ++k)
+    g.log_scales[3 * i + k] = gM.col(k).dot(Rq.col(k)) * s_vec[k];
+  const Mat3 gR = gM * s_vec.asDiagonal();
+  const Eigen::Map<const Eigen::Vector4f> q(&m.rotations[4 * i]);
+  const float qlen = q.norm();
+  const Eigen::Vector4f qn = q / qlen;
+  const Eigen::Vector4f gqn = quaternion_matrix_backward(qn, gR);
+  const Eigen::Vector4f gq = (gqn - qn * qn.dot(gqn)) / qlen;
+  for (int k = 0; k < 4; ++k) g.rotations[4 * i + k] = gq[k];
+
+  // Colour: SH coefficients and the view direction.
+  if (s.color) {
+    const Vec3 d = mean - v.center;
+    const float dlen = d.norm();
+    const Vec3 dir = d / dlen;
+    float basis[kShCoeffs], dbasis[kShCoeffs][3];
+    sh_basis(s.sh_degree, dir.data(), basis, dbasis);
+    const int n = (s.sh_degree + 1) * (s.sh_degree + 1);
+    Vec3 g_dir = Vec3::Zero();
+    for (int c = 0; c < 3; ++c) {
+      const float gc = p.color_clamped[3 * i + c] ? 0.f : pg.color[3 * i + c];
+      g.sh_dc[3 * i + c] = basis[0] * gc;
+      for (int k = 1; k < n; ++k) {
+        g.sh_rest[kShRestFloats * i + 3 * (k - 1) + c] = basis[k] * gc;
+        const float coeff = m.sh_rest[kShRestFloats * i + 3 * (k - 1) + c];
+        for (int a = 0; a < 3; ++a) g_dir[a] += dbasis[k][a] * coeff * gc;
+      }
+    }
+    g_mean += (g_dir - dir * dir.dot(g_dir)) / dlen;
+  }
+  for (int k = 0; k < 3; ++k) g.means[3 * i + k] = g_mean[k];
+
+  const float sigma = p.opacity[i];
+  g.opacity_logits[i] = pg.opacity[i] * sigma * (1 - sigma);
+  const float sigma_star = p.instance_opacity[i];
+  g.instance_opacity_logits[i] = pg.instance_opacity[i] * sigma_star * (1 - sigma_star);
+}
+
+}  // namespace
+
+void project_gaussians_backward(const GaussianModel& m, const Camera& cam,
+                                const RenderSettings& s, const ProjectedGaussians& p,
+                                const ProjectedGradients& pg, GaussianGradients& g) {
+  const size_t n = m.size();
+  g.resize(n);
+  const View v(cam);
+  const float half_w = 0.5f * cam.width, half_h = 0.5f * cam.height;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& range) {
+    for (size_t i = range.begin(); i < range.end(); ++i) {
+      if (!p.visible(i)) continue;
+      g.visible[i] = 1;
+      g.mean2d_ndc[2 * i] = pg.mean2d[2 * i] * half_w;
+      g.mean2d_ndc[2 * i + 1] = pg.mean2d[2 * i + 1] * half_h;
+      backward_one(m, v, s, p, pg, i, g);
+    }
+  });
+}
+
+}  // namespace splat

@@ -1,0 +1,81 @@
+#pragma once
+// What the renderer takes and gives back (../shared/spec/gaussian-splatting.md,
+// "Renderer constants", and the paper's dual-opacity branch).
+//
+// Conventions: pixel (x, y) is sampled at its centre (x + 0.5, y + 0.5) in
+// COLMAP pixel coordinates; images are row-major; colour is interleaved RGB.
+
+#include <cstdint>
+#include <vector>
+
+#include "splat/gaussians.h"
+
+namespace splat {
+
+inline constexpr int kTileSize = 16;
+inline constexpr float kNearPlane = 0.2f;          // cull camera depth <= this
+inline constexpr float kMaxAlpha = 0.99f;          // alpha clamp
+inline constexpr float kMinAlpha = 1.0f / 255.0f;  // skip contributions below this
+inline constexpr float kMinTransmittance = 1e-4f;  // stop before T falls below this
+inline constexpr float kLowPass = 0.3f;            // added to the 2D covariance diagonal
+inline constexpr float kFovClamp = 1.3f;           // Jacobian clamp, times tan(fov/2)
+
+struct RenderSettings {
+  float background[3] = {0, 0, 0};
+  int sh_degree = kMaxShDegree;  // active SH degree, 0..3
+  bool color = true;             // false: instance branch only, no colour work
+
+  // The dual-opacity branch (paper, eq. S_j). Occupancy maps
+  //   S_j(v) = sum over Gaussians i with label j of alpha*_i T_i,
+  // alpha*_i = min(0.99, sigma*_i G_i(v)), with T_i and early termination
+  // from the colour branch.
+  std::vector<int32_t> instance_labels;  // one map per label, in this order
+  bool all_instance_labels = false;      // one map per label 1..max label instead
+  // Label of the Gaussian with the largest alpha*_i along the ray (up to
+  // termination; only alpha*_i >= 1/255 counts, else 0).
+  bool instance_label_map = false;
+  // Ablation baseline: label of the Gaussian with the largest alpha_i T_i.
+  bool baseline_label_map = false;
+
+  bool wants_instance_maps() const { return all_instance_labels || !instance_labels.empty(); }
+};
+
+struct RenderOutput {
+  int width = 0, height = 0;
+  std::vector<float> color;   // 3 * W * H, over the background
+  std::vector<float> alpha;   // W * H, accumulated alpha = 1 - T_final
+  std::vector<float> depth;   // W * H, sum of z_i alpha_i T_i (divide by alpha for mean depth)
+  std::vector<uint32_t> contributors;  // W * H, number of Gaussians blended into the pixel
+  // Occupancy maps, one W * H plane per entry of instance_map_labels.
+  std::vector<int32_t> instance_map_labels;
+  std::vector<float> instance_maps;
+  std::vector<int32_t> instance_label;  // W * H if requested
+  std::vector<int32_t> baseline_label;  // W * H if requested
+};
+
+// dLoss/d(output), same shapes as RenderOutput; empty vectors mean zero.
+struct RenderOutputGradients {
+  std::vector<float> color;
+  std::vector<float> alpha;
+  std::vector<float> depth;
+  std::vector<float> instance_maps;  // per plane of RenderOutput::instance_maps
+};
+
+// dLoss/d(parameter) for every Gaussian parameter, shaped like GaussianModel.
+struct GaussianGradients {
+  std::vector<float> means;                    // 3N
+  std::vector<float> sh_dc;                    // 3N
+  std::vector<float> sh_rest;                  // 45N
+  std::vector<float> opacity_logits;           // N
+  std::vector<float> log_scales;               // 3N
+  std::vector<float> rotations;                // 4N
+  std::vector<float> instance_opacity_logits;  // N
+  // dLoss/d(projected 2D mean) in normalised device units (pixel gradient
+  // times half the image size on that axis): the densification statistic.
+  std::vector<float> mean2d_ndc;               // 2N
+  std::vector<uint8_t> visible;                // N: 1 if the Gaussian was rasterized
+
+  void resize(size_t n);
+};
+
+}  // namespace splat

@@ -1,0 +1,91 @@
+#include "splat/render/renderer.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "splat/render/project.h"
+#include "splat/render/rasterize.h"
+#include "splat/render/tile_bins.h"
+
+namespace splat {
+namespace {
+
+struct CpuRenderState : RenderState {
+  RasterState raster;
+};
+
+void check_settings(const RenderSettings& s, const Camera& camera) {
+  if (s.sh_degree < 0 || s.sh_degree > kMaxShDegree)
+    throw std::invalid_argument(fmt::format("SH degree must be 0..3, not {}", s.sh_degree));
+  if (camera.width <= 0 || camera.height <= 0)
+    throw std::invalid_argument(fmt::format("camera size {}x{}", camera.width, camera.height));
+  std::vector<int32_t> sorted = s.instance_labels;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+    throw std::invalid_argument("instance_labels lists a label twice");
+  if (!sorted.empty() && sorted.front() < 0) throw std::invalid_argument("labels must be >= 0");
+}
+
+// Which labels get an occupancy map, and the plane of each label.
+void plan_instance_maps(const GaussianModel& m, const RenderSettings& s, RasterState& st,
+                        RenderOutput& out) {
+  st.labels.assign(m.size(), 0);
+  if (m.has_labels) std::copy(m.labels.begin(), m.labels.end(), st.labels.begin());
+  out.instance_map_labels.clear();
+  if (s.all_instance_labels) {
+    int32_t max_label = 0;
+    for (int32_t l : st.labels) max_label = std::max(max_label, l);
+    for (int32_t l = 1; l <= max_label; ++l) out.instance_map_labels.push_back(l);
+  } else {
+    out.instance_map_labels = s.instance_labels;
+  }
+  st.map_of_label.clear();
+  for (size_t k = 0; k < out.instance_map_labels.size(); ++k) {
+    const int32_t l = out.instance_map_labels[k];
+    if (size_t(l) >= st.map_of_label.size()) st.map_of_label.resize(size_t(l) + 1, -1);
+    st.map_of_label[l] = int32_t(k);
+  }
+}
+
+}  // namespace
+
+RenderOutput CpuRenderer::render(const GaussianModel& model, const Camera& camera,
+                                 const RenderSettings& settings,
+                                 std::unique_ptr<RenderState>* state) const {
+  check_settings(settings, camera);
+  auto cpu_state = std::make_unique<CpuRenderState>();
+  RasterState& st = cpu_state->raster;
+  st.width = camera.width;
+  st.height = camera.height;
+  RenderOutput out;
+  plan_instance_maps(model, settings, st, out);
+  project_gaussians(model, camera, settings, st.projected);
+  bin_gaussians(st.projected, st.bins);
+  rasterize_forward(settings, st, out);
+  if (state) *state = std::move(cpu_state);
+  return out;
+}
+
+GaussianGradients CpuRenderer::backward(const GaussianModel& model, const Camera& camera,
+                                        const RenderSettings& settings, const RenderState& state,
+                                        const RenderOutputGradients& grads) const {
+  const auto* cpu_state = dynamic_cast<const CpuRenderState*>(&state);
+  if (!cpu_state) throw std::invalid_argument("CpuRenderer::backward needs a CPU render state");
+  const RasterState& st = cpu_state->raster;
+  const size_t pixels = size_t(st.width) * st.height;
+  if ((!grads.color.empty() && grads.color.size() != 3 * pixels) ||
+      (!grads.alpha.empty() && grads.alpha.size() != pixels) ||
+      (!grads.depth.empty() && grads.depth.size() != pixels) ||
+      (!grads.instance_maps.empty() &&
+       grads.instance_maps.size() != pixels * std::count_if(st.map_of_label.begin(), st.map_of_label.end(), [](int32_t p) { return p >= 0; })))
+    throw std::invalid_argument("output gradients do not match the render's sizes");
+  ProjectedGradients pgrads;
+  rasterize_backward(settings, st, grads, pgrads);
+  GaussianGradients g;
+  project_gaussians_backward(model, camera, settings, st.projected, pgrads, g);
+  return g;
+}
+
+}  // namespace splat

@@ -1,0 +1,17 @@
+#pragma once
+// View-dependent colour from real spherical harmonics up to degree 3, with the
+// constants and sign conventions of the reference 3DGS implementation:
+// colour = sum_k basis_k(dir) * coeff_k + 0.5, clamped at 0.
+
+#include <array>
+
+namespace splat {
+
+inline constexpr int kShCoeffs = 16;
+
+// Basis values for a unit direction (degree d uses the first (d+1)^2), and
+// optionally their derivatives d basis_k / d dir.
+void sh_basis(int degree, const float dir[3], float basis[kShCoeffs],
+              float dbasis[kShCoeffs][3] = nullptr);
+
+}  // namespace splat

@@ -1,0 +1,135 @@
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+#include "splat/render/renderer.h"
+#include "tests/splat/render/reference_renderer.h"
+#include "tests/splat/render/scenes.h"
+
+namespace splat {
+namespace {
+
+using testing_scenes::random_scene;
+using testing_scenes::test_camera;
+
+// |fast - ref| <= 1e-5 relative, with a floor of 1e-5 for values near zero.
+void expect_close(const std::vector<float>& fast, const std::vector<double>& ref, const char* what) {
+  ASSERT_EQ(fast.size(), ref.size()) << what;
+  double worst = 0;
+  size_t where = 0;
+  for (size_t i = 0; i < ref.size(); ++i) {
+    const double err = std::abs(fast[i] - ref[i]) / std::max(std::abs(ref[i]), 1.0);
+    if (err > worst) worst = err, where = i;
+  }
+  EXPECT_LE(worst, 1e-5) << what << " at " << where << ": " << fast[where] << " vs " << ref[where];
+}
+
+void expect_same_labels(const std::vector<int32_t>& fast, const std::vector<int>& ref, const char* what) {
+  ASSERT_EQ(fast.size(), ref.size()) << what;
+  size_t differ = 0;
+  for (size_t i = 0; i < ref.size(); ++i) differ += fast[i] != ref[i];
+  EXPECT_EQ(differ, 0u) << what;
+}
+
+RenderSettings full_settings() {
+  RenderSettings s;
+  s.background[0] = 0.2f, s.background[1] = 0.5f, s.background[2] = 0.9f;
+  s.instance_labels = {3, 1, 4};
+  s.instance_label_map = s.baseline_label_map = true;
+  return s;
+}
+
+class ForwardMatchesReference : public ::testing::TestWithParam<unsigned> {};
+
+TEST_P(ForwardMatchesReference, OnRandomScenes) {
+  const GaussianModel m = random_scene(300, GetParam());
+  const Camera cam = test_camera(70, 45);  // not a multiple of the tile size
+  for (int degree : {0, 3}) {
+    RenderSettings s = full_settings();
+    s.sh_degree = degree;
+    const RenderOutput fast = CpuRenderer().render(m, cam, s);
+    const reference::Output ref = reference::render(reference::Params::from(m), cam, s);
+    expect_close(fast.color, ref.color, "color");
+    expect_close(fast.alpha, ref.alpha, "alpha");
+    expect_close(fast.depth, ref.depth, "depth");
+    expect_close(fast.instance_maps, ref.instance_maps, "instance maps");
+    EXPECT_EQ(fast.instance_map_labels, (std::vector<int32_t>{3, 1, 4}));
+    expect_same_labels(fast.instance_label, ref.instance_label, "instance label map");
+    expect_same_labels(fast.baseline_label, ref.baseline_label, "baseline label map");
+    std::vector<int32_t> counts(fast.contributors.begin(), fast.contributors.end());
+    expect_same_labels(counts, ref.contributors, "contributors");
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeds, ForwardMatchesReference, ::testing::Values(1u, 2u, 3u, 4u));
+
+TEST(Renderer, AllObjectMapsMatchReferenceAndSumToOccupancy) {
+  const GaussianModel m = random_scene(250, 7, /*labels=*/6);
+  const Camera cam = test_camera();
+  RenderSettings s;
+  s.all_instance_labels = true;
+  const RenderOutput fast = CpuRenderer().render(m, cam, s);
+  const reference::Output ref = reference::render(reference::Params::from(m), cam, s);
+  EXPECT_EQ(fast.instance_map_labels, (std::vector<int32_t>{1, 2, 3, 4, 5, 6}));
+  expect_close(fast.instance_maps, ref.instance_maps, "all-object maps");
+}
+
+TEST(Renderer, InstanceOnlyRenderGivesTheSameMaps) {
+  const GaussianModel m = random_scene(250, 8);
+  const Camera cam = test_camera();
+  RenderSettings s = full_settings();
+  const RenderOutput with_color = CpuRenderer().render(m, cam, s);
+  s.color = false;
+  const RenderOutput masks_only = CpuRenderer().render(m, cam, s);
+  EXPECT_TRUE(masks_only.color.empty());
+  EXPECT_EQ(masks_only.instance_maps, with_color.instance_maps);
+  EXPECT_EQ(masks_only.instance_label, with_color.instance_label);
+  EXPECT_EQ(masks_only.alpha, with_color.alpha);
+}
+
+TEST(Renderer, NoGaussiansGivesBackground) {
+  GaussianModel m;
+  RenderSettings s;
+  s.background[1] = 0.25f;
+  s.instance_labels = {1};
+  const RenderOutput out = CpuRenderer().render(m, test_camera(), s);
+  for (size_t p = 0; p < out.alpha.size(); ++p) {
+    ASSERT_EQ(out.alpha[p], 0.f);
+    ASSERT_EQ(out.color[3 * p + 1], 0.25f);
+    ASSERT_EQ(out.instance_maps[p], 0.f);
+  }
+}
+
+TEST(Renderer, GaussiansBehindTheCameraAreCulled) {
+  GaussianModel m = random_scene(50, 9, 4, false);
+  for (size_t i = 0; i < m.size(); ++i) m.means[3 * i + 2] = -4.1f;  // camera at z = -4, looking +z
+  const RenderOutput out = CpuRenderer().render(m, test_camera(), RenderSettings{});
+  for (float a : out.alpha) ASSERT_EQ(a, 0.f);
+}
+
+TEST(Renderer, ResultDoesNotDependOnThreadCount) {
+  const GaussianModel m = random_scene(2000, 10);
+  const Camera cam = test_camera(160, 120);
+  const RenderSettings s = full_settings();
+  RenderOutput one, many;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = CpuRenderer().render(m, cam, s);
+  }
+  many = CpuRenderer().render(m, cam, s);
+  EXPECT_EQ(one.color, many.color);
+  EXPECT_EQ(one.instance_maps, many.instance_maps);
+}
+
+TEST(Renderer, RejectsBadSettings) {
+  RenderSettings s;
+  s.sh_degree = 4;
+  EXPECT_THROW(CpuRenderer().render(GaussianModel{}, test_camera(), s), std::invalid_argument);
+  s.sh_degree = 3;
+  s.instance_labels = {2, 2};
+  EXPECT_THROW(CpuRenderer().render(GaussianModel{}, test_camera(), s), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace splat
