@@ -14,16 +14,30 @@ using Vec3 = Eigen::Vector3f;
 using Mat23 = Eigen::Matrix<float, 2, 3>;
 
 void GaussianGradients::resize(size_t n) {
-  means.assign(3 * n, 0.f);
-  sh_dc.assign(3 * n, 0.f);
-  sh_rest.assign(kShRestFloats * n, 0.f);
-  opacity_logits.assign(n, 0.f);
-  log_scales.assign(3 * n, 0.f);
-  rotations.assign(4 * n, 0.f);
-  instance_opacity_logits.assign(n, 0.f);
-  mean2d_ndc.assign(2 * n, 0.f);
-  visible.assign(n, 0);
+  means.resize(3 * n);
+  sh_dc.resize(3 * n);
+  sh_rest.resize(kShRestFloats * n);
+  opacity_logits.resize(n);
+  log_scales.resize(3 * n);
+  rotations.resize(4 * n);
+  instance_opacity_logits.resize(n);
+  mean2d_ndc.resize(2 * n);
+  visible.resize(n);
 }
+
+namespace {
+// Zeroes the gradients of Gaussian i (culled, or SH beyond the active degree).
+void zero_gradients(GaussianGradients& g, size_t i) {
+  std::fill_n(&g.means[3 * i], 3, 0.f);
+  std::fill_n(&g.sh_dc[3 * i], 3, 0.f);
+  std::fill_n(&g.sh_rest[kShRestFloats * i], kShRestFloats, 0.f);
+  g.opacity_logits[i] = g.instance_opacity_logits[i] = 0.f;
+  std::fill_n(&g.log_scales[3 * i], 3, 0.f);
+  std::fill_n(&g.rotations[4 * i], 4, 0.f);
+  std::fill_n(&g.mean2d_ndc[2 * i], 2, 0.f);
+  g.visible[i] = 0;
+}
+}  // namespace
 
 void ProjectedGradients::resize(size_t n) {
   mean2d.assign(2 * n, 0.f);
@@ -265,7 +279,7 @@ void backward_one(const GaussianModel& m, const View& v, const RenderSettings& s
   for (int k = 0; k < 4; ++k) g.rotations[4 * i + k] = gq[k];
 
   // Colour: SH coefficients and the view direction.
-  if (s.color) {
+  if (s.color) {  // else the colour gradients stay zero
     const Vec3 d = mean - v.center;
     const float dlen = d.norm();
     const Vec3 dir = d / dlen;
@@ -303,6 +317,7 @@ void project_gaussians_backward(const GaussianModel& m, const Camera& cam,
   const float half_w = 0.5f * cam.width, half_h = 0.5f * cam.height;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& range) {
     for (size_t i = range.begin(); i < range.end(); ++i) {
+      zero_gradients(g, i);
       if (!p.visible(i)) continue;
       g.visible[i] = 1;
       g.mean2d_ndc[2 * i] = pg.mean2d[2 * i] * half_w;

@@ -16,6 +16,9 @@
 
 namespace splat {
 
+// Floats of gradient the backward pass keeps per (Gaussian, tile) entry.
+inline constexpr int kRasterEntryGradients = 11;
+
 // Everything the backward pass needs from the forward pass.
 struct RasterState {
   int width = 0, height = 0;
@@ -25,6 +28,7 @@ struct RasterState {
   std::vector<uint32_t> n_contrib;         // W * H: tile-list position of the last contributor + 1
   std::vector<int32_t> map_of_label;       // label -> instance map plane, -1 if none
   std::vector<int32_t> labels;             // per Gaussian (copied from the model, 0 if none)
+  std::vector<float> entry_grads;          // backward scratch: gradient per (Gaussian, tile) entry
 };
 
 // Fills out (colour, alpha, depth, contributors, and what settings ask of
@@ -32,7 +36,7 @@ struct RasterState {
 void rasterize_forward(const RenderSettings& settings, RasterState& state, RenderOutput& out);
 
 // Accumulates dLoss/d(projected quantities) from the output gradients.
-void rasterize_backward(const RenderSettings& settings, const RasterState& state,
+void rasterize_backward(const RenderSettings& settings, RasterState& state,
                         const RenderOutputGradients& grads, ProjectedGradients& out);
 
 }  // namespace splat

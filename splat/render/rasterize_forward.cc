@@ -52,7 +52,7 @@ inline void blend(const TileGaussians& tg, size_t k, float px0, float py, RowSta
   const float mx = tg.mx[k], dy = tg.my[k] - py, A = tg.A[k], B = tg.B[k], C = tg.C[k];
   const float op = tg.opacity[k], op_star = tg.instance_opacity[k];
   const int32_t position = int32_t(k) + 1, label = tg.label[k];
-  float* plane = (kInstance && tg.plane[k] >= 0) ? &s.planes[size_t(tg.plane[k]) * kLanes] : nullptr;
+  float* plane = kInstance ? &s.planes[size_t(tg.plane[k]) * kLanes] : nullptr;
   float cr = 0, cg = 0, cb = 0;
   if constexpr (kColor) cr = tg.r[k], cg = tg.g[k], cb = tg.b[k];
   const float z = tg.depth[k];
@@ -62,11 +62,14 @@ inline void blend(const TileGaussians& tg, size_t k, float px0, float py, RowSta
     const float power = -0.5f * (A * dx * dx + C * dy * dy) - B * dx * dy;
     const float G = fast_exp(std::min(power, 0.f));
     const float alpha = std::min(kMaxAlpha, op * G);
-    const bool valid = s.done[l] == 0.f && power <= 0.f && alpha >= kMinAlpha;
+    // Conditions as float 0/1 masks and selects on them: GCC if-converts
+    // these, so the lanes vectorise (bool & bool ? a : b it does not).
+    const float m_valid = (s.done[l] == 0.f ? 1.f : 0.f) * (power <= 0.f ? 1.f : 0.f) *
+                          (alpha >= kMinAlpha ? 1.f : 0.f);
     const float next_T = s.T[l] * (1.f - alpha);
-    const bool terminate = valid && next_T < kMinTransmittance;
-    const bool contribute = valid && !terminate;
-    const float w = contribute ? alpha * s.T[l] : 0.f;
+    const float m_terminate = next_T < kMinTransmittance ? m_valid : 0.f;
+    const float m_contribute = m_valid - m_terminate;
+    const float w = m_contribute * alpha * s.T[l];
     if constexpr (kColor) {
       s.color[0][l] += w * cr;
       s.color[1][l] += w * cg;
@@ -75,22 +78,22 @@ inline void blend(const TileGaussians& tg, size_t k, float px0, float py, RowSta
     s.depth[l] += w * z;
     if constexpr (kInstance || kLabels) {
       const float alpha_star = std::min(kMaxAlpha, op_star * G);
-      if constexpr (kInstance) {
-        if (plane) plane[l] += contribute ? alpha_star * s.T[l] : 0.f;
-      }
+      if constexpr (kInstance) plane[l] += m_contribute * alpha_star * s.T[l];
       if constexpr (kLabels) {
-        const bool better = contribute && alpha_star >= kMinAlpha && alpha_star > s.best_instance_alpha[l];
-        s.best_instance_alpha[l] = better ? alpha_star : s.best_instance_alpha[l];
-        s.instance_label[l] = better ? label : s.instance_label[l];
-        const bool heavier = contribute && w > s.best_weight[l];
-        s.best_weight[l] = heavier ? w : s.best_weight[l];
-        s.baseline_label[l] = heavier ? label : s.baseline_label[l];
+        const float m_better = m_contribute * (alpha_star >= kMinAlpha ? 1.f : 0.f) *
+                               (alpha_star > s.best_instance_alpha[l] ? 1.f : 0.f);
+        s.best_instance_alpha[l] = m_better > 0.f ? alpha_star : s.best_instance_alpha[l];
+        s.instance_label[l] = m_better > 0.f ? label : s.instance_label[l];
+        // w > 0 only where the Gaussian contributes.
+        const float m_heavier = w > s.best_weight[l] ? 1.f : 0.f;
+        s.best_weight[l] = m_heavier > 0.f ? w : s.best_weight[l];
+        s.baseline_label[l] = m_heavier > 0.f ? label : s.baseline_label[l];
       }
     }
-    s.last[l] = contribute ? position : s.last[l];
-    s.blended[l] += contribute ? 1 : 0;
-    s.T[l] = contribute ? next_T : s.T[l];
-    s.done[l] = terminate ? 1.f : s.done[l];
+    s.last[l] = m_contribute > 0.f ? position : s.last[l];
+    s.blended[l] += m_contribute > 0.f ? 1 : 0;
+    s.T[l] = m_contribute > 0.f ? next_T : s.T[l];
+    s.done[l] = std::max(s.done[l], m_terminate);
   }
 }
 
@@ -99,7 +102,11 @@ void blend_row(const TileGaussians& tg, float px0, float py, RowState& s) {
   const size_t n = tg.size();
   for (size_t k = 0; k < n; ++k) {
     if (py < tg.y_lo[k] || py > tg.y_hi[k]) continue;  // out of reach for the whole row
-    blend<kColor, kInstance, kLabels>(tg, k, px0, py, s);
+    // Only Gaussians whose label has a map pay for the instance branch.
+    if (kInstance && tg.plane[k] >= 0)
+      blend<kColor, kInstance, kLabels>(tg, k, px0, py, s);
+    else
+      blend<kColor, false, kLabels>(tg, k, px0, py, s);
     if ((k & 15) == 15 && s.all_done()) break;
   }
 }

@@ -75,6 +75,8 @@ struct GaussianGradients {
   std::vector<float> mean2d_ndc;               // 2N
   std::vector<uint8_t> visible;                // N: 1 if the Gaussian was rasterized
 
+  // Sizes every array for n Gaussians (values are left to the backward pass,
+  // which writes all of them).
   void resize(size_t n);
 };
 

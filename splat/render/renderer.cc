@@ -12,8 +12,31 @@
 namespace splat {
 namespace {
 
+template <typename T>
+size_t bytes_of(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
 struct CpuRenderState : RenderState {
   RasterState raster;
+  ProjectedGradients projected_grads;  // backward scratch, reused
+
+  size_t bytes() const override {
+    const ProjectedGaussians& p = raster.projected;
+    const TileBins& b = raster.bins;
+    return bytes_of(p.mean2d) + bytes_of(p.conic) + bytes_of(p.depth) + bytes_of(p.radius) +
+           bytes_of(p.tile_rect) + bytes_of(p.reach) + bytes_of(p.color) +
+           bytes_of(p.color_clamped) + bytes_of(p.opacity) + bytes_of(p.instance_opacity) +
+           bytes_of(b.tile_start) + bytes_of(b.slot_gaussian) + bytes_of(b.slot_entry) +
+           bytes_of(b.gaussian_entries) + bytes_of(raster.final_transmittance) +
+           bytes_of(raster.n_contrib) + bytes_of(raster.map_of_label) + bytes_of(raster.labels);
+  }
+  size_t backward_bytes() const override {
+    const ProjectedGradients& g = projected_grads;
+    return bytes_of(raster.entry_grads) + bytes_of(g.mean2d) + bytes_of(g.conic) +
+           bytes_of(g.depth) + bytes_of(g.color) + bytes_of(g.opacity) +
+           bytes_of(g.instance_opacity);
+  }
 };
 
 void check_settings(const RenderSettings& s, const Camera& camera) {
@@ -51,29 +74,33 @@ void plan_instance_maps(const GaussianModel& m, const RenderSettings& s, RasterS
 
 }  // namespace
 
-RenderOutput CpuRenderer::render(const GaussianModel& model, const Camera& camera,
-                                 const RenderSettings& settings,
-                                 std::unique_ptr<RenderState>* state) const {
+void CpuRenderer::render(const GaussianModel& model, const Camera& camera,
+                         const RenderSettings& settings, RenderOutput& out,
+                         std::unique_ptr<RenderState>* state) const {
   check_settings(settings, camera);
-  auto cpu_state = std::make_unique<CpuRenderState>();
+  // Reuse the caller's state (and its buffers) when it is one of ours.
+  std::unique_ptr<CpuRenderState> own;
+  CpuRenderState* cpu_state = state ? dynamic_cast<CpuRenderState*>(state->get()) : nullptr;
+  if (!cpu_state) {
+    own = std::make_unique<CpuRenderState>();
+    cpu_state = own.get();
+  }
   RasterState& st = cpu_state->raster;
   st.width = camera.width;
   st.height = camera.height;
-  RenderOutput out;
   plan_instance_maps(model, settings, st, out);
   project_gaussians(model, camera, settings, st.projected);
   bin_gaussians(st.projected, st.bins);
   rasterize_forward(settings, st, out);
-  if (state) *state = std::move(cpu_state);
-  return out;
+  if (state && own) *state = std::move(own);
 }
 
-GaussianGradients CpuRenderer::backward(const GaussianModel& model, const Camera& camera,
-                                        const RenderSettings& settings, const RenderState& state,
-                                        const RenderOutputGradients& grads) const {
-  const auto* cpu_state = dynamic_cast<const CpuRenderState*>(&state);
+void CpuRenderer::backward(const GaussianModel& model, const Camera& camera,
+                           const RenderSettings& settings, RenderState& state,
+                           const RenderOutputGradients& grads, GaussianGradients& out) const {
+  auto* cpu_state = dynamic_cast<CpuRenderState*>(&state);
   if (!cpu_state) throw std::invalid_argument("CpuRenderer::backward needs a CPU render state");
-  const RasterState& st = cpu_state->raster;
+  RasterState& st = cpu_state->raster;
   const size_t pixels = size_t(st.width) * st.height;
   if ((!grads.color.empty() && grads.color.size() != 3 * pixels) ||
       (!grads.alpha.empty() && grads.alpha.size() != pixels) ||
@@ -81,11 +108,8 @@ GaussianGradients CpuRenderer::backward(const GaussianModel& model, const Camera
       (!grads.instance_maps.empty() &&
        grads.instance_maps.size() != pixels * std::count_if(st.map_of_label.begin(), st.map_of_label.end(), [](int32_t p) { return p >= 0; })))
     throw std::invalid_argument("output gradients do not match the render's sizes");
-  ProjectedGradients pgrads;
-  rasterize_backward(settings, st, grads, pgrads);
-  GaussianGradients g;
-  project_gaussians_backward(model, camera, settings, st.projected, pgrads, g);
-  return g;
+  rasterize_backward(settings, st, grads, cpu_state->projected_grads);
+  project_gaussians_backward(model, camera, settings, st.projected, cpu_state->projected_grads, out);
 }
 
 }  // namespace splat

@@ -20,33 +20,57 @@ namespace splat {
 class RenderState {
  public:
   virtual ~RenderState() = default;
+  // Memory held for the backward pass, in bytes.
+  virtual size_t bytes() const = 0;
+  // Memory the backward pass allocates on top of it, in bytes.
+  virtual size_t backward_bytes() const = 0;
 };
 
 class Renderer {
  public:
   virtual ~Renderer() = default;
 
-  // Renders one view. When state is given, it receives what backward needs.
+  // Renders one view into out. When state is given, it receives what
+  // backward needs; a state (and an out) from an earlier call is reused, so a
+  // training loop allocates nothing after its first iteration.
   // Throws std::invalid_argument for bad settings (SH degree, repeated labels).
-  virtual RenderOutput render(const GaussianModel& model, const Camera& camera,
-                              const RenderSettings& settings,
-                              std::unique_ptr<RenderState>* state = nullptr) const = 0;
+  virtual void render(const GaussianModel& model, const Camera& camera,
+                      const RenderSettings& settings, RenderOutput& out,
+                      std::unique_ptr<RenderState>* state = nullptr) const = 0;
 
   // Gradients of the loss w.r.t. every Gaussian parameter, given the
-  // gradients w.r.t. the outputs of the render that produced state.
-  virtual GaussianGradients backward(const GaussianModel& model, const Camera& camera,
-                                     const RenderSettings& settings, const RenderState& state,
-                                     const RenderOutputGradients& grads) const = 0;
+  // gradients w.r.t. the outputs of the render that produced state. out's
+  // buffers are reused.
+  virtual void backward(const GaussianModel& model, const Camera& camera,
+                        const RenderSettings& settings, RenderState& state,
+                        const RenderOutputGradients& grads, GaussianGradients& out) const = 0;
+
+  // Conveniences that return fresh outputs.
+  RenderOutput render(const GaussianModel& model, const Camera& camera,
+                      const RenderSettings& settings,
+                      std::unique_ptr<RenderState>* state = nullptr) const {
+    RenderOutput out;
+    render(model, camera, settings, out, state);
+    return out;
+  }
+  GaussianGradients backward(const GaussianModel& model, const Camera& camera,
+                             const RenderSettings& settings, RenderState& state,
+                             const RenderOutputGradients& grads) const {
+    GaussianGradients out;
+    backward(model, camera, settings, state, grads, out);
+    return out;
+  }
 };
 
 class CpuRenderer : public Renderer {
  public:
-  RenderOutput render(const GaussianModel& model, const Camera& camera,
-                      const RenderSettings& settings,
-                      std::unique_ptr<RenderState>* state = nullptr) const override;
-  GaussianGradients backward(const GaussianModel& model, const Camera& camera,
-                             const RenderSettings& settings, const RenderState& state,
-                             const RenderOutputGradients& grads) const override;
+  using Renderer::backward;
+  using Renderer::render;
+  void render(const GaussianModel& model, const Camera& camera, const RenderSettings& settings,
+              RenderOutput& out, std::unique_ptr<RenderState>* state = nullptr) const override;
+  void backward(const GaussianModel& model, const Camera& camera, const RenderSettings& settings,
+                RenderState& state, const RenderOutputGradients& grads,
+                GaussianGradients& out) const override;
 };
 
 }  // namespace splat

@@ -3,65 +3,114 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <numeric>
+#include <bit>
 
 namespace splat {
+
+namespace {
+
+// Sort key of a (tile, Gaussian) slot: depth first, then Gaussian index, so
+// the order is fully determined. Depths are > the near plane, and the bits
+// of positive floats order like the floats.
+uint64_t depth_key(float depth, uint32_t gaussian) {
+  return (uint64_t(std::bit_cast<uint32_t>(depth)) << 32) | gaussian;
+}
+
+// Sorts keys by their high 32 bits (the depth), keeping the order of equal
+// depths: LSD radix sort, one byte a pass, skipping bytes all keys share.
+void radix_sort_by_depth(uint64_t* keys, size_t n, std::vector<uint64_t>& scratch) {
+  if (n < 2) return;
+  scratch.resize(n);
+  uint64_t* src = keys;
+  uint64_t* dst = scratch.data();
+  for (int shift = 32; shift < 64; shift += 8) {
+    uint32_t count[257] = {};
+    for (size_t k = 0; k < n; ++k) ++count[((src[k] >> shift) & 0xff) + 1];
+    if (count[((src[0] >> shift) & 0xff) + 1] == n) continue;  // one bucket: nothing to do
+    for (int d = 0; d < 256; ++d) count[d + 1] += count[d];
+    for (size_t k = 0; k < n; ++k) dst[count[(src[k] >> shift) & 0xff]++] = src[k];
+    std::swap(src, dst);
+  }
+  if (src != keys) std::copy(src, src + n, keys);
+}
+
+}  // namespace
 
 void bin_gaussians(const ProjectedGaussians& p, TileBins& b) {
   const size_t n = p.size();
   b.tiles_x = p.tiles_x;
   b.tiles_y = p.tiles_y;
   const size_t tiles = size_t(b.tiles_x) * b.tiles_y;
-
-  // Entries per Gaussian, numbered Gaussian by Gaussian.
-  b.gaussian_entries.assign(n + 1, 0);
-  for (size_t i = 0; i < n; ++i) {
+  auto rect_tiles = [&](size_t i) -> uint32_t {
     const int32_t* r = &p.tile_rect[4 * i];
-    const uint32_t count = p.visible(i) ? uint32_t((r[2] - r[0]) * (r[3] - r[1])) : 0;
-    b.gaussian_entries[i + 1] = b.gaussian_entries[i] + count;
-  }
-  const size_t entries = b.gaussian_entries[n];
+    return p.visible(i) ? uint32_t((r[2] - r[0]) * (r[3] - r[1])) : 0;
+  };
 
-  // Counting sort by tile; within a tile entries stay in Gaussian order.
-  b.tile_start.assign(tiles + 1, 0);
-  for (size_t i = 0; i < n; ++i) {
-    if (!p.visible(i)) continue;
+  // Entries numbered Gaussian by Gaussian.
+  b.gaussian_entries.resize(n + 1);
+  b.gaussian_entries[0] = 0;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8192), [&](const auto& range) {
+    for (size_t i = range.begin(); i < range.end(); ++i) b.gaussian_entries[i + 1] = rect_tiles(i);
+  });
+  for (size_t i = 0; i < n; ++i) b.gaussian_entries[i + 1] += b.gaussian_entries[i];
+
+  // Counting sort by tile without atomics: each chunk of Gaussians counts its
+  // entries per tile, and gets its own write position in every tile.
+  const size_t chunks = std::clamp<size_t>(n / 4096, 1, 64);
+  auto chunk_range = [&](size_t c) { return std::pair{n * c / chunks, n * (c + 1) / chunks}; };
+  auto for_each_tile = [&](size_t i, auto&& f) {
     const int32_t* r = &p.tile_rect[4 * i];
     for (int ty = r[1]; ty < r[3]; ++ty)
-      for (int tx = r[0]; tx < r[2]; ++tx) ++b.tile_start[size_t(ty) * b.tiles_x + tx + 1];
+      for (int tx = r[0]; tx < r[2]; ++tx) f(size_t(ty) * b.tiles_x + tx);
+  };
+  std::vector<uint32_t> position(chunks * tiles, 0);  // [chunk][tile]
+  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+    uint32_t* count = &position[c * tiles];
+    const auto [lo, hi] = chunk_range(c);
+    for (size_t i = lo; i < hi; ++i)
+      if (p.visible(i)) for_each_tile(i, [&](size_t t) { ++count[t]; });
+  });
+  b.tile_start.resize(tiles + 1);
+  uint32_t total = 0;
+  for (size_t t = 0; t < tiles; ++t) {
+    b.tile_start[t] = total;
+    for (size_t c = 0; c < chunks; ++c) {
+      const uint32_t count = position[c * tiles + t];
+      position[c * tiles + t] = total;
+      total += count;
+    }
   }
-  std::partial_sum(b.tile_start.begin(), b.tile_start.end(), b.tile_start.begin());
+  b.tile_start[tiles] = total;
+  const size_t entries = total;
+  std::vector<uint64_t> keys(entries);
+  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+    uint32_t* next = &position[c * tiles];
+    const auto [lo, hi] = chunk_range(c);
+    for (size_t i = lo; i < hi; ++i) {
+      if (!p.visible(i)) continue;
+      const uint64_t key = depth_key(p.depth[i], uint32_t(i));
+      for_each_tile(i, [&](size_t t) { keys[next[t]++] = key; });
+    }
+  });
+
   b.slot_gaussian.resize(entries);
   b.slot_entry.resize(entries);
-  std::vector<uint32_t> fill(b.tile_start.begin(), b.tile_start.end() - 1);
-  for (size_t i = 0; i < n; ++i) {
-    if (!p.visible(i)) continue;
-    const int32_t* r = &p.tile_rect[4 * i];
-    uint32_t entry = b.gaussian_entries[i];
-    for (int ty = r[1]; ty < r[3]; ++ty)
-      for (int tx = r[0]; tx < r[2]; ++tx) {
-        const uint32_t slot = fill[size_t(ty) * b.tiles_x + tx]++;
-        b.slot_gaussian[slot] = uint32_t(i);
-        b.slot_entry[slot] = entry++;
+  // Chunks scatter in Gaussian order, so each tile's keys ascend by index
+  // and a stable sort by depth gives the (depth, index) order.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 16), [&](const auto& range) {
+    std::vector<uint64_t> scratch;
+    for (size_t t = range.begin(); t < range.end(); ++t) {
+      const uint32_t lo = b.tile_start[t], hi = b.tile_start[t + 1];
+      radix_sort_by_depth(keys.data() + lo, hi - lo, scratch);
+      const int tx = int(t % b.tiles_x), ty = int(t / b.tiles_x);
+      for (uint32_t s = lo; s < hi; ++s) {
+        const uint32_t i = uint32_t(keys[s]);
+        const int32_t* r = &p.tile_rect[4 * i];
+        b.slot_gaussian[s] = i;
+        b.slot_entry[s] =
+            b.gaussian_entries[i] + uint32_t((ty - r[1]) * (r[2] - r[0]) + (tx - r[0]));
       }
-  }
-
-  // Front to back within each tile; stable, so equal depths keep index order.
-  tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
-    const uint32_t lo = b.tile_start[t], hi = b.tile_start[t + 1];
-    if (hi - lo < 2) return;
-    std::vector<uint32_t> order(hi - lo);
-    std::iota(order.begin(), order.end(), lo);
-    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t c) {
-      return p.depth[b.slot_gaussian[a]] < p.depth[b.slot_gaussian[c]];
-    });
-    std::vector<uint32_t> g(order.size()), e(order.size());
-    for (size_t k = 0; k < order.size(); ++k) {
-      g[k] = b.slot_gaussian[order[k]];
-      e[k] = b.slot_entry[order[k]];
     }
-    std::copy(g.begin(), g.end(), b.slot_gaussian.begin() + lo);
-    std::copy(e.begin(), e.end(), b.slot_entry.begin() + lo);
   });
 }
 

@@ -1,0 +1,175 @@
+// The CPU rasterizer on fixed seeded scenes: forward, backward, forward with
+// the instance branch (M = 3), and all-object masks alone.
+//
+//   build/bench/render_bench --benchmark_counters_tabular=true
+//
+// Scene: N Gaussians in a box 2..8 units in front of the camera, log-normal
+// scales whose median projects to about 1.5 px at the mean depth for 200k
+// Gaussians at 640x480 (so every size has about the same depth complexity),
+// opacities sigmoid(N(1, 2)) as trained scenes have many nearly opaque
+// Gaussians, random rotations, full degree-3 SH, labels 0..10.
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <random>
+
+#include "splat/render/renderer.h"
+
+namespace {
+
+using namespace splat;
+
+Camera bench_camera(int width, int height) {
+  return Camera::look_at({0, 0, 0}, {0, 0, 1}, Eigen::Vector3d::UnitY(), width, height,
+                         0.8 * width, 0.8 * width);
+}
+
+GaussianModel bench_scene(size_t n, int width, int height) {
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<float> u(-1, 1);
+  std::normal_distribution<float> g;
+  const Camera cam = bench_camera(width, height);
+  // Median world scale: 1.5 px at depth 5, for the density of 200k at 640x480.
+  const double density = double(n) / (double(width) * height) / (200000.0 / (640.0 * 480.0));
+  const float median_scale = float(1.5 * 5.0 / cam.fx / std::sqrt(density));
+  GaussianModel m;
+  m.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const float z = 2.f + 6.f * (0.5f + 0.5f * u(rng));
+    m.means[3 * i] = u(rng) * z * float(cam.tan_half_fov_x());
+    m.means[3 * i + 1] = u(rng) * z * float(cam.tan_half_fov_y());
+    m.means[3 * i + 2] = z;
+    for (int k = 0; k < 3; ++k) {
+      m.log_scales[3 * i + k] = std::log(median_scale) + 0.7f * g(rng);
+      m.sh_dc[3 * i + k] = g(rng);
+    }
+    for (int k = 0; k < 45; ++k) m.sh_rest[45 * i + k] = 0.1f * g(rng);
+    for (int k = 0; k < 4; ++k) m.rotations[4 * i + k] = g(rng);
+    m.opacity_logits[i] = 1.f + 2.f * g(rng);
+    m.instance_opacity_logits[i] = m.opacity_logits[i];
+    m.labels[i] = int32_t(i % 11);
+  }
+  m.has_labels = m.has_instance_opacity = true;
+  return m;
+}
+
+struct Case {
+  size_t n;
+  int width, height;
+};
+Case case_of(const benchmark::State& state) {
+  const int scale = int(state.range(1));
+  return {size_t(state.range(0)), 640 * scale, 480 * scale};
+}
+
+void report(benchmark::State& state, const RenderOutput& out, const Case& c) {
+  double blends = 0;
+  for (uint32_t v : out.contributors) blends += v;
+  state.counters["blends/px"] = blends / out.contributors.size();
+  state.counters["blends/s"] = benchmark::Counter(blends * state.iterations(), benchmark::Counter::kIsRate);
+  state.SetLabel(std::to_string(c.n / 1000) + "k @ " + std::to_string(c.width) + "x" + std::to_string(c.height));
+}
+
+void BM_Forward(benchmark::State& state) {
+  const Case c = case_of(state);
+  const GaussianModel m = bench_scene(c.n, c.width, c.height);
+  const Camera cam = bench_camera(c.width, c.height);
+  RenderOutput out;
+  std::unique_ptr<RenderState> rs;  // reused, as when rendering many views
+  for (auto _ : state) CpuRenderer().render(m, cam, RenderSettings{}, out, &rs);
+  report(state, out, c);
+}
+
+void BM_ForwardInstanceM3(benchmark::State& state) {
+  const Case c = case_of(state);
+  const GaussianModel m = bench_scene(c.n, c.width, c.height);
+  const Camera cam = bench_camera(c.width, c.height);
+  RenderSettings s;
+  s.instance_labels = {2, 5, 7};
+  RenderOutput out;
+  std::unique_ptr<RenderState> rs;
+  for (auto _ : state) CpuRenderer().render(m, cam, s, out, &rs);
+  report(state, out, c);
+}
+
+void BM_AllObjectMasksOnly(benchmark::State& state) {
+  const Case c = case_of(state);
+  const GaussianModel m = bench_scene(c.n, c.width, c.height);
+  const Camera cam = bench_camera(c.width, c.height);
+  RenderSettings s;
+  s.color = false;
+  s.all_instance_labels = true;
+  RenderOutput out;
+  std::unique_ptr<RenderState> rs;
+  for (auto _ : state) CpuRenderer().render(m, cam, s, out, &rs);
+  report(state, out, c);
+}
+
+void BM_LabelMapsOnly(benchmark::State& state) {
+  const Case c = case_of(state);
+  const GaussianModel m = bench_scene(c.n, c.width, c.height);
+  const Camera cam = bench_camera(c.width, c.height);
+  RenderSettings s;
+  s.color = false;
+  s.instance_label_map = s.baseline_label_map = true;
+  RenderOutput out;
+  std::unique_ptr<RenderState> rs;
+  for (auto _ : state) CpuRenderer().render(m, cam, s, out, &rs);
+  report(state, out, c);
+}
+
+// Backward alone (the forward's state is made once, outside the timing).
+void BM_Backward(benchmark::State& state) {
+  const Case c = case_of(state);
+  const GaussianModel m = bench_scene(c.n, c.width, c.height);
+  const Camera cam = bench_camera(c.width, c.height);
+  RenderSettings s;
+  s.instance_labels = {2, 5, 7};
+  std::unique_ptr<RenderState> rs;
+  const RenderOutput out = CpuRenderer().render(m, cam, s, &rs);
+  RenderOutputGradients g;
+  g.color.assign(out.color.size(), 1e-3f);
+  g.instance_maps.assign(out.instance_maps.size(), 1e-3f);
+  GaussianGradients grads;
+  for (auto _ : state) CpuRenderer().backward(m, cam, s, *rs, g, grads);
+  report(state, out, c);
+  // Parameters + gradients + render state + backward buffers, per Gaussian.
+  const double model_bytes = double(sizeof(float)) * (3 + 3 + 45 + 1 + 3 + 4 + 1) + sizeof(int32_t);
+  const double grad_bytes = double(sizeof(float)) * (3 + 3 + 45 + 1 + 3 + 4 + 1 + 2) + 1;
+  state.counters["bytes/gaussian"] = model_bytes + grad_bytes + double(rs->bytes() + rs->backward_bytes()) / c.n;
+}
+
+// A training iteration's rendering work: forward with the state, then backward.
+void BM_ForwardBackward(benchmark::State& state) {
+  const Case c = case_of(state);
+  const GaussianModel m = bench_scene(c.n, c.width, c.height);
+  const Camera cam = bench_camera(c.width, c.height);
+  RenderSettings s;
+  RenderOutput out;
+  RenderOutputGradients g;
+  GaussianGradients grads;
+  std::unique_ptr<RenderState> rs;  // buffers reused from iteration to iteration
+  for (auto _ : state) {
+    CpuRenderer().render(m, cam, s, out, &rs);
+    g.color.assign(out.color.size(), 1e-3f);
+    CpuRenderer().backward(m, cam, s, *rs, g, grads);
+  }
+  report(state, out, c);
+}
+
+void sizes(benchmark::internal::Benchmark* b) {
+  b->Args({100000, 1})->Args({200000, 1})->Args({1000000, 1})->Args({100000, 2})->Args({1000000, 2});
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+
+BENCHMARK(BM_Forward)->Apply(sizes);
+BENCHMARK(BM_ForwardInstanceM3)->Apply(sizes);
+BENCHMARK(BM_AllObjectMasksOnly)->Apply(sizes);
+BENCHMARK(BM_LabelMapsOnly)->Apply(sizes);
+BENCHMARK(BM_Backward)->Apply(sizes);
+BENCHMARK(BM_ForwardBackward)->Apply(sizes);
+
+}  // namespace
+
+BENCHMARK_MAIN();
