@@ -4,70 +4,73 @@
 #include <cmath>
 
 #include "splat/render/fast_exp.h"
+#include "splat/render/pixel_block.h"
 #include "splat/render/rasterize.h"
 #include "splat/render/tile_gaussians.h"
 
 namespace splat {
 namespace {
 
-constexpr int kLanes = kTileSize;
-constexpr int kRows = kTileSize;
+constexpr int kLanes = kBlockLanes;
+constexpr int kBlocks = kBlocksPerTile;  // state arrays are [block][lane]
 
 // Gradient of one entry (Gaussian in one tile), summed over its pixels.
 enum EntryGrad { kMeanX, kMeanY, kConicA, kConicB, kConicC, kRed, kGreen, kBlue, kDepth,
                  kOpacity, kInstanceOpacity, kEntryGrads };
 static_assert(kEntryGrads == kRasterEntryGradients);
 
-// Per-pixel state of one tile, going back to front: [row][lane].
+// Per-pixel state of one tile, going back to front: [block][lane].
 struct TileBackState {
-  alignas(64) float T[kRows][kLanes];  // transmittance after the current Gaussian
-  alignas(64) float T_final[kRows][kLanes];
-  alignas(64) int32_t last[kRows][kLanes];
-  alignas(64) float g_color[3][kRows][kLanes];  // dL/d(output colour)
-  alignas(64) float g_alpha[kRows][kLanes];
-  alignas(64) float g_depth[kRows][kLanes];
-  alignas(64) float behind[3][kRows][kLanes];  // sum of w_k c_k over Gaussians behind
-  alignas(64) float behind_depth[kRows][kLanes];
-  alignas(64) float bg_dot[3][kRows][kLanes];  // T_final * background
-  int32_t row_last[kRows];                     // largest `last` of each row
-  std::vector<float> g_planes;                 // dL/dS: [plane][row][lane]
-  alignas(64) float zeros[kRows][kLanes] = {};  // dL/dS of labels without a map
+  alignas(64) float T[kBlocks][kLanes];  // transmittance after the current Gaussian
+  alignas(64) float T_final[kBlocks][kLanes];
+  alignas(64) int32_t last[kBlocks][kLanes];
+  alignas(64) float g_color[3][kBlocks][kLanes];  // dL/d(output colour)
+  alignas(64) float g_alpha[kBlocks][kLanes];
+  alignas(64) float g_depth[kBlocks][kLanes];
+  alignas(64) float behind[3][kBlocks][kLanes];  // sum of w_k c_k over Gaussians behind
+  alignas(64) float behind_depth[kBlocks][kLanes];
+  alignas(64) float bg_dot[3][kBlocks][kLanes];  // T_final * background
+  int32_t block_last[kBlocks];                     // largest `last` of each block
+  std::vector<float> g_planes;                 // dL/dS: [plane][block][lane]
+  alignas(64) float zeros[kBlocks][kLanes] = {};  // dL/dS of labels without a map
 };
 
-// One Gaussian on one row: adds its pixels' gradient terms to acc.
+// One Gaussian on one block (first pixel centre px0, py0): adds its pixels'
+// gradient terms to acc.
 template <bool kColor, bool kInstance>
-inline void back_row(const TileGaussians& tg, size_t k, float px0, float py, int row,
-                     const float* g_plane, TileBackState& s, float (&acc)[kEntryGrads][kLanes]) {
-  const float mx = tg.mx[k], dy = tg.my[k] - py, A = tg.A[k], B = tg.B[k], C = tg.C[k];
-  const float op = tg.opacity[k], op_star = tg.instance_opacity[k], z = tg.depth[k];
+inline void back_block(const TileGaussians& tg, size_t k, float px0, float py0, int block,
+                       const float* g_plane, TileBackState& s, float (&acc)[kEntryGrads][kLanes]) {
+  const SplatRecord& gs = tg[k];
+  const float mx = gs.mx - px0, my = gs.my - py0, A = gs.A, B = gs.B, C = gs.C;
+  const float op = gs.opacity, op_star = gs.instance_opacity, z = gs.depth;
   const int32_t position = int32_t(k);
   float c[3] = {0, 0, 0};
-  if constexpr (kColor) c[0] = tg.r[k], c[1] = tg.g[k], c[2] = tg.b[k];
-  float* T = s.T[row];
+  if constexpr (kColor) c[0] = gs.r, c[1] = gs.g, c[2] = gs.b;
+  float* T = s.T[block];
 #pragma GCC ivdep
   for (int l = 0; l < kLanes; ++l) {
-    const float dx = mx - (px0 + float(l));
+    const float dx = mx - kLaneOffsets.x[l], dy = my - kLaneOffsets.y[l];
     const float power = -0.5f * (A * dx * dx + C * dy * dy) - B * dx * dy;
     const float G = fast_exp(std::min(power, 0.f));
     const float raw_alpha = op * G;
     const float alpha = std::min(kMaxAlpha, raw_alpha);
     // Float 0/1 masks and selects on them keep the lanes vectorised.
-    const float m_valid = (position < s.last[row][l] ? 1.f : 0.f) * (power <= 0.f ? 1.f : 0.f) *
+    const float m_valid = (position < s.last[block][l] ? 1.f : 0.f) * (power <= 0.f ? 1.f : 0.f) *
                           (alpha >= kMinAlpha ? 1.f : 0.f);
     const float inv_one_minus = 1.f / (1.f - alpha);
     const float T_i = m_valid > 0.f ? T[l] * inv_one_minus : T[l];
     const float w = m_valid * alpha * T_i;
 
-    float g_alpha = s.g_alpha[row][l] * s.T_final[row][l] * inv_one_minus;
-    g_alpha += s.g_depth[row][l] * (z * T_i - s.behind_depth[row][l] * inv_one_minus);
-    acc[kDepth][l] += s.g_depth[row][l] * w;
-    s.behind_depth[row][l] += w * z;
+    float g_alpha = s.g_alpha[block][l] * s.T_final[block][l] * inv_one_minus;
+    g_alpha += s.g_depth[block][l] * (z * T_i - s.behind_depth[block][l] * inv_one_minus);
+    acc[kDepth][l] += s.g_depth[block][l] * w;
+    s.behind_depth[block][l] += w * z;
     if constexpr (kColor) {
       for (int ch = 0; ch < 3; ++ch) {
-        g_alpha += s.g_color[ch][row][l] *
-                   (c[ch] * T_i - (s.behind[ch][row][l] + s.bg_dot[ch][row][l]) * inv_one_minus);
-        acc[kRed + ch][l] += s.g_color[ch][row][l] * w;
-        s.behind[ch][row][l] += w * c[ch];
+        g_alpha += s.g_color[ch][block][l] *
+                   (c[ch] * T_i - (s.behind[ch][block][l] + s.bg_dot[ch][block][l]) * inv_one_minus);
+        acc[kRed + ch][l] += s.g_color[ch][block][l] * w;
+        s.behind[ch][block][l] += w * c[ch];
       }
     }
     // The alpha clamp at 0.99 has zero derivative, in both branches.
@@ -91,25 +94,23 @@ inline void back_row(const TileGaussians& tg, size_t k, float px0, float py, int
   }
 }
 
-// All rows of one tile, Gaussians back to front; each Gaussian's gradient is
-// summed over the rows it reaches, then over lanes, once.
+// All blocks of one tile, Gaussians back to front; each Gaussian's gradient
+// is summed over the blocks it reaches, then over lanes, once.
 template <bool kColor, bool kInstance>
-void backward_tile(const TileGaussians& tg, const uint32_t* entries, float px0, int y0, int rows,
+void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0, int tile_y0,
                    TileBackState& s, std::vector<float>& entry_grads) {
   int32_t last = 0;
-  for (int r = 0; r < rows; ++r) last = std::max(last, s.row_last[r]);
+  for (int b = 0; b < kBlocks; ++b) last = std::max(last, s.block_last[b]);
   for (int32_t k = last - 1; k >= 0; --k) {
-    // Rows whose pixel centres lie within the Gaussian's reach.
-    const int r0 = std::max(0, int(std::ceil(tg.y_lo[k] - 0.5f)) - y0);
-    const int r1 = std::min(rows - 1, int(std::floor(tg.y_hi[k] - 0.5f)) - y0);
-    if (r0 > r1) continue;
     const float* g_planes = nullptr;
-    if constexpr (kInstance) g_planes = tg.plane[k] >= 0 ? &s.g_planes[size_t(tg.plane[k]) * kRows * kLanes] : &s.zeros[0][0];
+    if constexpr (kInstance) g_planes = tg[k].plane >= 0 ? &s.g_planes[size_t(tg[k].plane) * kBlocks * kLanes] : &s.zeros[0][0];
     alignas(64) float acc[kEntryGrads][kLanes] = {};
-    for (int r = r0; r <= r1; ++r) {
-      if (k >= s.row_last[r]) continue;
-      back_row<kColor, kInstance>(tg, size_t(k), px0, float(y0 + r) + 0.5f, r,
-                                  kInstance ? g_planes + r * kLanes : nullptr, s, acc);
+    for (int b = 0; b < kBlocks; ++b) {
+      if (k >= s.block_last[b]) continue;
+      const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
+      if (!tg.reaches(size_t(k), block.cx0(), block.cx1(), block.cy0(), block.cy1())) continue;
+      back_block<kColor, kInstance>(tg, size_t(k), block.cx0(), block.cy0(), b,
+                                    kInstance ? g_planes + b * kLanes : nullptr, s, acc);
     }
     float* entry = &entry_grads[size_t(entries[k]) * kEntryGrads];
     for (int j = 0; j < kEntryGrads; ++j) {
@@ -121,27 +122,28 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, float px0, 
 }
 
 void load_tile_state(const RenderSettings& settings, const RasterState& st,
-                     const RenderOutputGradients& grads, bool color, size_t planes, int x0, int y0,
-                     int lanes, int rows, TileBackState& s) {
+                     const RenderOutputGradients& grads, bool color, size_t planes, int tile_x0,
+                     int tile_y0, TileBackState& s) {
   const size_t pixels = size_t(st.width) * st.height;
-  for (int r = 0; r < kRows; ++r) {
-    s.row_last[r] = 0;
+  for (int b = 0; b < kBlocks; ++b) {
+    const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
+    s.block_last[b] = 0;
     for (int l = 0; l < kLanes; ++l) {
-      const bool in = l < lanes && r < rows;
-      const size_t pix = in ? size_t(y0 + r) * st.width + x0 + l : 0;
-      s.T[r][l] = s.T_final[r][l] = in ? st.final_transmittance[pix] : 1.f;
-      s.last[r][l] = in ? int32_t(st.n_contrib[pix]) : 0;
-      s.row_last[r] = std::max(s.row_last[r], s.last[r][l]);
-      s.g_alpha[r][l] = in && !grads.alpha.empty() ? grads.alpha[pix] : 0.f;
-      s.g_depth[r][l] = in && !grads.depth.empty() ? grads.depth[pix] : 0.f;
-      s.behind_depth[r][l] = 0.f;
+      const bool in = block.inside(l, st.width, st.height);
+      const size_t pix = in ? block.pixel(l, st.width) : 0;
+      s.T[b][l] = s.T_final[b][l] = in ? st.final_transmittance[pix] : 1.f;
+      s.last[b][l] = in ? int32_t(st.n_contrib[pix]) : 0;
+      s.block_last[b] = std::max(s.block_last[b], s.last[b][l]);
+      s.g_alpha[b][l] = in && !grads.alpha.empty() ? grads.alpha[pix] : 0.f;
+      s.g_depth[b][l] = in && !grads.depth.empty() ? grads.depth[pix] : 0.f;
+      s.behind_depth[b][l] = 0.f;
       for (int c = 0; c < 3; ++c) {
-        s.g_color[c][r][l] = in && color ? grads.color[3 * pix + c] : 0.f;
-        s.behind[c][r][l] = 0.f;
-        s.bg_dot[c][r][l] = s.T_final[r][l] * settings.background[c];
+        s.g_color[c][b][l] = in && color ? grads.color[3 * pix + c] : 0.f;
+        s.behind[c][b][l] = 0.f;
+        s.bg_dot[c][b][l] = s.T_final[b][l] * settings.background[c];
       }
       for (size_t m = 0; m < planes; ++m)
-        s.g_planes[(m * kRows + r) * kLanes + l] = in ? grads.instance_maps[m * pixels + pix] : 0.f;
+        s.g_planes[(m * kBlocks + b) * kLanes + l] = in ? grads.instance_maps[m * pixels + pix] : 0.f;
     }
   }
 }
@@ -165,16 +167,14 @@ void rasterize_backward(const RenderSettings& settings, RasterState& st,
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const auto& range) {
     TileGaussians tg;
     auto s = std::make_unique<TileBackState>();
-    s->g_planes.assign(planes * kRows * kLanes, 0.f);
+    s->g_planes.assign(planes * kBlocks * kLanes, 0.f);
     for (size_t t = range.begin(); t < range.end(); ++t) {
       const uint32_t lo = st.bins.tile_start[t], hi = st.bins.tile_start[t + 1];
       if (lo == hi) continue;
-      const int tx = int(t % st.bins.tiles_x), ty = int(t / st.bins.tiles_x);
-      const int x0 = tx * kTileSize, y0 = ty * kTileSize;
-      const int lanes = std::min(kTileSize, W - x0), rows = std::min(kTileSize, H - y0);
-      tg.gather(st, lo, hi, color);
-      load_tile_state(settings, st, grads, color, planes, x0, y0, lanes, rows, *s);
-      tile_fn(tg, &st.bins.slot_entry[lo], float(x0) + 0.5f, y0, rows, *s, entry_grads);
+      const int x0 = int(t % st.bins.tiles_x) * kTileSize, y0 = int(t / st.bins.tiles_x) * kTileSize;
+      tg.gather(st, lo, hi);
+      load_tile_state(settings, st, grads, color, planes, x0, y0, *s);
+      tile_fn(tg, &st.bins.slot_entry[lo], x0, y0, *s, entry_grads);
     }
   });
 

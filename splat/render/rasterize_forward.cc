@@ -3,16 +3,17 @@
 #include <algorithm>
 
 #include "splat/render/fast_exp.h"
+#include "splat/render/pixel_block.h"
 #include "splat/render/rasterize.h"
 #include "splat/render/tile_gaussians.h"
 
 namespace splat {
 namespace {
 
-constexpr int kLanes = kTileSize;  // one tile row
+constexpr int kLanes = kBlockLanes;
 
-// Per-pixel blending state of one row of a tile.
-struct RowState {
+// Per-pixel blending state of one 4x4 block.
+struct BlockState {
   alignas(64) float T[kLanes];
   alignas(64) float color[3][kLanes];
   alignas(64) float depth[kLanes];
@@ -25,17 +26,14 @@ struct RowState {
   alignas(64) int32_t baseline_label[kLanes];
   std::vector<float> planes;  // instance maps, plane-major, kLanes each
 
-  void reset(int lanes, size_t num_planes) {
+  void reset(const PixelBlock& block, int width, int height, size_t num_planes) {
     for (int l = 0; l < kLanes; ++l) {
       T[l] = 1.f;
       color[0][l] = color[1][l] = color[2][l] = depth[l] = 0.f;
-      done[l] = l < lanes ? 0.f : 1.f;
-      last[l] = 0;
-      blended[l] = 0;
-      best_instance_alpha[l] = 0.f;
-      instance_label[l] = 0;
-      best_weight[l] = 0.f;
-      baseline_label[l] = 0;
+      done[l] = block.inside(l, width, height) ? 0.f : 1.f;
+      last[l] = blended[l] = 0;
+      best_instance_alpha[l] = best_weight[l] = 0.f;
+      instance_label[l] = baseline_label[l] = 0;
     }
     planes.assign(num_planes * kLanes, 0.f);
   }
@@ -46,19 +44,20 @@ struct RowState {
   }
 };
 
-// Blends Gaussian k of the tile into the row at pixel-centre height py.
+// Blends Gaussian k of the tile into the block whose first pixel centre is
+// (px0, py0).
 template <bool kColor, bool kInstance, bool kLabels>
-inline void blend(const TileGaussians& tg, size_t k, float px0, float py, RowState& s) {
-  const float mx = tg.mx[k], dy = tg.my[k] - py, A = tg.A[k], B = tg.B[k], C = tg.C[k];
-  const float op = tg.opacity[k], op_star = tg.instance_opacity[k];
-  const int32_t position = int32_t(k) + 1, label = tg.label[k];
-  float* plane = kInstance ? &s.planes[size_t(tg.plane[k]) * kLanes] : nullptr;
+inline void blend(const TileGaussians& tg, size_t k, float px0, float py0, BlockState& s) {
+  const SplatRecord& g = tg[k];
+  const float mx = g.mx - px0, my = g.my - py0, A = g.A, B = g.B, C = g.C;
+  const float op = g.opacity, op_star = g.instance_opacity, z = g.depth;
+  const int32_t position = int32_t(k) + 1, label = g.label;
+  float* plane = kInstance ? &s.planes[size_t(g.plane) * kLanes] : nullptr;
   float cr = 0, cg = 0, cb = 0;
-  if constexpr (kColor) cr = tg.r[k], cg = tg.g[k], cb = tg.b[k];
-  const float z = tg.depth[k];
+  if constexpr (kColor) cr = g.r, cg = g.g, cb = g.b;
 #pragma GCC ivdep
   for (int l = 0; l < kLanes; ++l) {
-    const float dx = mx - (px0 + float(l));
+    const float dx = mx - kLaneOffsets.x[l], dy = my - kLaneOffsets.y[l];
     const float power = -0.5f * (A * dx * dx + C * dy * dy) - B * dx * dy;
     const float G = fast_exp(std::min(power, 0.f));
     const float alpha = std::min(kMaxAlpha, op * G);
@@ -98,28 +97,77 @@ inline void blend(const TileGaussians& tg, size_t k, float px0, float py, RowSta
 }
 
 template <bool kColor, bool kInstance, bool kLabels>
-void blend_row(const TileGaussians& tg, float px0, float py, RowState& s) {
+void blend_block(const TileGaussians& tg, const PixelBlock& block, BlockState& s) {
   const size_t n = tg.size();
+  const float x0 = block.cx0(), x1 = block.cx1(), y0 = block.cy0(), y1 = block.cy1();
   for (size_t k = 0; k < n; ++k) {
-    if (py < tg.y_lo[k] || py > tg.y_hi[k]) continue;  // out of reach for the whole row
+    if (!tg.reaches(k, x0, x1, y0, y1)) continue;
     // Only Gaussians whose label has a map pay for the instance branch.
-    if (kInstance && tg.plane[k] >= 0)
-      blend<kColor, kInstance, kLabels>(tg, k, px0, py, s);
+    if (kInstance && tg[k].plane >= 0)
+      blend<kColor, kInstance, kLabels>(tg, k, x0, y0, s);
     else
-      blend<kColor, false, kLabels>(tg, k, px0, py, s);
+      blend<kColor, false, kLabels>(tg, k, x0, y0, s);
     if ((k & 15) == 15 && s.all_done()) break;
   }
 }
 
-using RowFunction = void (*)(const TileGaussians&, float, float, RowState&);
+using BlockFunction = void (*)(const TileGaussians&, const PixelBlock&, BlockState&);
 
-RowFunction pick_row_function(bool color, bool instance, bool labels) {
-  static constexpr RowFunction table[8] = {
-      blend_row<false, false, false>, blend_row<false, false, true>,
-      blend_row<false, true, false>,  blend_row<false, true, true>,
-      blend_row<true, false, false>,  blend_row<true, false, true>,
-      blend_row<true, true, false>,   blend_row<true, true, true>};
+BlockFunction pick_block_function(bool color, bool instance, bool labels) {
+  static constexpr BlockFunction table[8] = {
+      blend_block<false, false, false>, blend_block<false, false, true>,
+      blend_block<false, true, false>,  blend_block<false, true, true>,
+      blend_block<true, false, false>,  blend_block<true, false, true>,
+      blend_block<true, true, false>,   blend_block<true, true, true>};
   return table[(color ? 4 : 0) + (instance ? 2 : 0) + (labels ? 1 : 0)];
+}
+
+void store_block(const RenderSettings& settings, const PixelBlock& block, const BlockState& s,
+                 RasterState& st, RenderOutput& out) {
+  const int W = st.width, H = st.height;
+  const size_t pixels = size_t(W) * H, planes = out.instance_map_labels.size();
+  for (int l = 0; l < kLanes; ++l) {
+    if (!block.inside(l, W, H)) continue;
+    const size_t pix = block.pixel(l, W);
+    if (settings.color)
+      for (int c = 0; c < 3; ++c) out.color[3 * pix + c] = s.color[c][l] + s.T[l] * settings.background[c];
+    out.alpha[pix] = 1.f - s.T[l];
+    out.depth[pix] = s.depth[l];
+    out.contributors[pix] = uint32_t(s.blended[l]);
+    st.final_transmittance[pix] = s.T[l];
+    st.n_contrib[pix] = uint32_t(s.last[l]);
+    for (size_t m = 0; m < planes; ++m) out.instance_maps[m * pixels + pix] = s.planes[m * kLanes + l];
+    if (settings.instance_label_map) out.instance_label[pix] = s.instance_label[l];
+    if (settings.baseline_label_map) out.baseline_label[pix] = s.baseline_label[l];
+  }
+}
+
+void pack_records(bool color, RasterState& st) {
+  const ProjectedGaussians& p = st.projected;
+  st.records.resize(p.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, p.size(), 8192), [&](const auto& range) {
+    for (size_t i = range.begin(); i < range.end(); ++i) {
+      if (!p.visible(i)) continue;
+      SplatRecord& r = st.records[i];
+      r.mx = p.mean2d[2 * i];
+      r.my = p.mean2d[2 * i + 1];
+      r.A = p.conic[3 * i];
+      r.B = p.conic[3 * i + 1];
+      r.C = p.conic[3 * i + 2];
+      r.opacity = p.opacity[i];
+      r.instance_opacity = p.instance_opacity[i];
+      r.depth = p.depth[i];
+      r.r = color ? p.color[3 * i] : 0.f;
+      r.g = color ? p.color[3 * i + 1] : 0.f;
+      r.b = color ? p.color[3 * i + 2] : 0.f;
+      r.reach_x = p.reach[2 * i];
+      r.reach_y = p.reach[2 * i + 1];
+      r.label = st.labels[i];
+      const int32_t l = st.labels[i];
+      r.plane = (l >= 0 && size_t(l) < st.map_of_label.size()) ? st.map_of_label[l] : -1;
+      r.unused = 0;
+    }
+  });
 }
 
 }  // namespace
@@ -140,30 +188,23 @@ void rasterize_forward(const RenderSettings& settings, RasterState& st, RenderOu
   out.baseline_label.assign(settings.baseline_label_map ? pixels : 0, 0);
   st.final_transmittance.assign(pixels, 1.f);
   st.n_contrib.assign(pixels, 0);
-  const RowFunction row_fn = pick_row_function(settings.color, planes > 0, labels);
+  const BlockFunction block_fn = pick_block_function(settings.color, planes > 0, labels);
+  pack_records(settings.color, st);
 
   const size_t tiles = size_t(st.bins.tiles_x) * st.bins.tiles_y;
-  tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
-    const int tx = int(t % st.bins.tiles_x), ty = int(t / st.bins.tiles_x);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const auto& range) {
     TileGaussians tg;
-    tg.gather(st, st.bins.tile_start[t], st.bins.tile_start[t + 1], settings.color);
-    RowState s;
-    const int x0 = tx * kTileSize, lanes = std::min(kTileSize, W - x0);
-    for (int y = ty * kTileSize; y < std::min(H, (ty + 1) * kTileSize); ++y) {
-      s.reset(lanes, planes);
-      row_fn(tg, float(x0) + 0.5f, float(y) + 0.5f, s);
-      for (int l = 0; l < lanes; ++l) {
-        const size_t pix = size_t(y) * W + x0 + l;
-        if (settings.color)
-          for (int c = 0; c < 3; ++c) out.color[3 * pix + c] = s.color[c][l] + s.T[l] * settings.background[c];
-        out.alpha[pix] = 1.f - s.T[l];
-        out.depth[pix] = s.depth[l];
-        out.contributors[pix] = uint32_t(s.blended[l]);
-        st.final_transmittance[pix] = s.T[l];
-        st.n_contrib[pix] = uint32_t(s.last[l]);
-        for (size_t m = 0; m < planes; ++m) out.instance_maps[m * pixels + pix] = s.planes[m * kLanes + l];
-        if (settings.instance_label_map) out.instance_label[pix] = s.instance_label[l];
-        if (settings.baseline_label_map) out.baseline_label[pix] = s.baseline_label[l];
+    BlockState s;
+    for (size_t t = range.begin(); t < range.end(); ++t) {
+      const int tile_x0 = int(t % st.bins.tiles_x) * kTileSize;
+      const int tile_y0 = int(t / st.bins.tiles_x) * kTileSize;
+      tg.gather(st, st.bins.tile_start[t], st.bins.tile_start[t + 1]);
+      for (int b = 0; b < kBlocksPerTile; ++b) {
+        const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
+        if (block.x0 >= W || block.y0 >= H) continue;
+        s.reset(block, W, H, planes);
+        block_fn(tg, block, s);
+        store_block(settings, block, s, st, out);
       }
     }
   });

@@ -29,7 +29,8 @@ struct CpuRenderState : RenderState {
            bytes_of(p.color_clamped) + bytes_of(p.opacity) + bytes_of(p.instance_opacity) +
            bytes_of(b.tile_start) + bytes_of(b.slot_gaussian) + bytes_of(b.slot_entry) +
            bytes_of(b.gaussian_entries) + bytes_of(raster.final_transmittance) +
-           bytes_of(raster.n_contrib) + bytes_of(raster.map_of_label) + bytes_of(raster.labels);
+           bytes_of(raster.n_contrib) + bytes_of(raster.map_of_label) + bytes_of(raster.labels) +
+           bytes_of(raster.records);
   }
   size_t backward_bytes() const override {
     const ProjectedGradients& g = projected_grads;

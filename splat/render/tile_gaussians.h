@@ -1,5 +1,5 @@
 #pragma once
-// A tile's Gaussians copied into contiguous arrays, front to back: the CPU
+// A tile's Gaussians copied into one contiguous array, front to back: the CPU
 // counterpart of a CUDA block loading its Gaussians into shared memory.
 
 #include <cstdint>
@@ -10,44 +10,29 @@
 namespace splat {
 
 struct TileGaussians {
-  std::vector<float> mx, my;      // 2D mean
-  std::vector<float> A, B, C;     // conic
-  std::vector<float> opacity, instance_opacity;
-  std::vector<float> r, g, b;     // colour (when rendering colour)
-  std::vector<float> depth;
-  std::vector<float> y_lo, y_hi;  // pixel-centre rows the Gaussian can reach
-  std::vector<int32_t> plane;     // instance map plane of its label, -1 if none
-  std::vector<int32_t> label;
-  size_t size() const { return mx.size(); }
+  std::vector<SplatRecord> records;
 
-  void gather(const RasterState& s, uint32_t slot_begin, uint32_t slot_end, bool color) {
-    const ProjectedGaussians& p = s.projected;
+  size_t size() const { return records.size(); }
+  const SplatRecord& operator[](size_t k) const { return records[k]; }
+
+  // Whether Gaussian k can reach a pixel centre in [x0, x1] x [y0, y1].
+  bool reaches(size_t k, float x0, float x1, float y0, float y1) const {
+    const SplatRecord& g = records[k];
+    return g.mx + g.reach_x >= x0 && g.mx - g.reach_x <= x1 && g.my + g.reach_y >= y0 &&
+           g.my - g.reach_y <= y1;
+  }
+
+  void gather(const RasterState& s, uint32_t slot_begin, uint32_t slot_end) {
     const size_t n = slot_end - slot_begin;
-    for (auto* v : {&mx, &my, &A, &B, &C, &opacity, &instance_opacity, &depth, &y_lo, &y_hi})
-      v->resize(n);
-    for (auto* v : {&r, &g, &b}) v->resize(color ? n : 0);
-    plane.resize(n);
-    label.resize(n);
+    const uint32_t* gaussian = &s.bins.slot_gaussian[slot_begin];
+    records.resize(n);
+    // The records are read in depth order, i.e. at random: prefetch ahead so
+    // the loads overlap instead of waiting on memory one by one.
+    constexpr size_t kAhead = 16;
+    for (size_t k = 0; k < std::min(n, kAhead); ++k) __builtin_prefetch(&s.records[gaussian[k]]);
     for (size_t k = 0; k < n; ++k) {
-      const uint32_t i = s.bins.slot_gaussian[slot_begin + k];
-      mx[k] = p.mean2d[2 * i];
-      my[k] = p.mean2d[2 * i + 1];
-      A[k] = p.conic[3 * i];
-      B[k] = p.conic[3 * i + 1];
-      C[k] = p.conic[3 * i + 2];
-      opacity[k] = p.opacity[i];
-      instance_opacity[k] = p.instance_opacity[i];
-      depth[k] = p.depth[i];
-      y_lo[k] = my[k] - p.reach[2 * i + 1];
-      y_hi[k] = my[k] + p.reach[2 * i + 1];
-      if (color) {
-        r[k] = p.color[3 * i];
-        g[k] = p.color[3 * i + 1];
-        b[k] = p.color[3 * i + 2];
-      }
-      label[k] = s.labels[i];
-      const int32_t l = s.labels[i];
-      plane[k] = (l >= 0 && size_t(l) < s.map_of_label.size()) ? s.map_of_label[l] : -1;
+      if (k + kAhead < n) __builtin_prefetch(&s.records[gaussian[k + kAhead]]);
+      records[k] = s.records[gaussian[k]];
     }
   }
 };
