@@ -3,11 +3,18 @@
 //
 //   build/bench/render_bench --benchmark_counters_tabular=true
 //
-// Scene: N Gaussians in a box 2..8 units in front of the camera, log-normal
-// scales whose median projects to about 1.5 px at the mean depth for 200k
-// Gaussians at 640x480 (so every size has about the same depth complexity),
-// opacities sigmoid(N(1, 2)) as trained scenes have many nearly opaque
-// Gaussians, random rotations, full degree-3 SH, labels 0..10.
+// Two fixed seeded scenes (the second argument after the size picks one):
+//  - volume: N Gaussians spread through a box 2..8 units in front of the
+//    camera, log-normal scales whose median projects to about 1.5 px at the
+//    mean depth for 200k Gaussians at 640x480 (so every size has about the same
+//    depth complexity), opacities sigmoid(N(1, 2)), random rotations. A hard
+//    case: rays cross many semi-transparent Gaussians before terminating.
+//  - surface: what training produces. N Gaussians on 16 random planar and
+//    spherical patches plus a back wall that fills the view; tangent scales
+//    from the sampling spacing on each patch (times log-normal(0, 0.5)) so
+//    every surface is covered, flattened along the normal (scale / 10),
+//    mostly opaque (sigmoid(N(2, 1.5))).
+// Both: full degree-3 SH, labels 0..10.
 
 #include <benchmark/benchmark.h>
 
@@ -54,13 +61,73 @@ GaussianModel bench_scene(size_t n, int width, int height) {
   return m;
 }
 
+// Flattened Gaussians on surfaces, as a trained model has them.
+GaussianModel surface_scene(size_t n, int width, int height) {
+  GaussianModel m = bench_scene(n, width, height);  // SH, labels, scale spread
+  std::mt19937 rng(777);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::normal_distribution<float> g;
+  const Camera cam = bench_camera(width, height);
+  struct Patch {
+    Eigen::Vector3d center, t1, t2;
+    double radius;
+    bool sphere;
+  };
+  std::vector<Patch> patches;
+  const double tx = cam.tan_half_fov_x(), ty = cam.tan_half_fov_y();
+  patches.push_back({{0, 0, 9}, {1, 0, 0}, {0, 1, 0}, 10 * tx, false});  // back wall
+  for (int k = 0; k < 16; ++k) {
+    const double z = 2.5 + 5 * (0.5 + 0.5 * u(rng));
+    Eigen::Vector3d c(u(rng) * z * tx, u(rng) * z * ty, z);
+    const Eigen::Vector3d normal = Eigen::Vector3d(u(rng), u(rng), -1.5).normalized();
+    const Eigen::Vector3d t1 = normal.cross(Eigen::Vector3d::UnitY()).normalized();
+    patches.push_back({c, t1, normal.cross(t1), 0.3 + 0.5 * (0.5 + 0.5 * u(rng)), k % 3 == 0});
+  }
+  // Sampling spacing on each patch: sqrt(area / Gaussians on it).
+  auto spacing = [&](size_t k) {
+    const Patch& p = patches[k];
+    const double area = p.sphere ? 4 * M_PI * p.radius * p.radius : 4 * p.radius * p.radius;
+    const double count = k == 0 ? n / 5.0 : n * 0.8 / 16;
+    return std::sqrt(area / count);
+  };
+  for (size_t i = 0; i < n; ++i) {
+    const size_t patch = i % 5 == 0 ? 0 : 1 + i % 16;
+    const Patch& p = patches[patch];
+    Eigen::Vector3d pos, t1 = p.t1, t2 = p.t2;
+    if (p.sphere) {
+      const Eigen::Vector3d d = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+      pos = p.center + p.radius * d;
+      t1 = d.cross(Eigen::Vector3d::UnitY()).normalized();
+      t2 = d.cross(t1);
+    } else {
+      pos = p.center + p.radius * (u(rng) * p.t1 + u(rng) * p.t2);
+    }
+    Eigen::Matrix3d R;
+    R.col(0) = t1;
+    R.col(1) = t2;
+    R.col(2) = t1.cross(t2);
+    const Eigen::Vector4d q = quaternion_from_rotation(R);
+    for (int k = 0; k < 3; ++k) m.means[3 * i + k] = float(pos[k]);
+    for (int k = 0; k < 4; ++k) m.rotations[4 * i + k] = float(q[k]);
+    for (int k = 0; k < 2; ++k) m.log_scales[3 * i + k] = float(std::log(spacing(patch))) + 0.5f * g(rng);
+    m.log_scales[3 * i + 2] = std::min(m.log_scales[3 * i], m.log_scales[3 * i + 1]) - std::log(10.f);
+    m.opacity_logits[i] = 2.f + 1.5f * g(rng);
+    m.instance_opacity_logits[i] = m.opacity_logits[i];
+  }
+  return m;
+}
+
 struct Case {
   size_t n;
   int width, height;
+  bool surface;
 };
 Case case_of(const benchmark::State& state) {
   const int scale = int(state.range(1));
-  return {size_t(state.range(0)), 640 * scale, 480 * scale};
+  return {size_t(state.range(0)), 640 * scale, 480 * scale, state.range(2) == 1};
+}
+GaussianModel scene_of(const Case& c) {
+  return c.surface ? surface_scene(c.n, c.width, c.height) : bench_scene(c.n, c.width, c.height);
 }
 
 void report(benchmark::State& state, const RenderOutput& out, const Case& c) {
@@ -68,12 +135,13 @@ void report(benchmark::State& state, const RenderOutput& out, const Case& c) {
   for (uint32_t v : out.contributors) blends += v;
   state.counters["blends/px"] = blends / out.contributors.size();
   state.counters["blends/s"] = benchmark::Counter(blends * state.iterations(), benchmark::Counter::kIsRate);
-  state.SetLabel(std::to_string(c.n / 1000) + "k @ " + std::to_string(c.width) + "x" + std::to_string(c.height));
+  state.SetLabel(std::string(c.surface ? "surface " : "volume ") + std::to_string(c.n / 1000) +
+                 "k @ " + std::to_string(c.width) + "x" + std::to_string(c.height));
 }
 
 void BM_Forward(benchmark::State& state) {
   const Case c = case_of(state);
-  const GaussianModel m = bench_scene(c.n, c.width, c.height);
+  const GaussianModel m = scene_of(c);
   const Camera cam = bench_camera(c.width, c.height);
   RenderOutput out;
   std::unique_ptr<RenderState> rs;  // reused, as when rendering many views
@@ -83,7 +151,7 @@ void BM_Forward(benchmark::State& state) {
 
 void BM_ForwardInstanceM3(benchmark::State& state) {
   const Case c = case_of(state);
-  const GaussianModel m = bench_scene(c.n, c.width, c.height);
+  const GaussianModel m = scene_of(c);
   const Camera cam = bench_camera(c.width, c.height);
   RenderSettings s;
   s.instance_labels = {2, 5, 7};
@@ -95,7 +163,7 @@ void BM_ForwardInstanceM3(benchmark::State& state) {
 
 void BM_AllObjectMasksOnly(benchmark::State& state) {
   const Case c = case_of(state);
-  const GaussianModel m = bench_scene(c.n, c.width, c.height);
+  const GaussianModel m = scene_of(c);
   const Camera cam = bench_camera(c.width, c.height);
   RenderSettings s;
   s.color = false;
@@ -108,7 +176,7 @@ void BM_AllObjectMasksOnly(benchmark::State& state) {
 
 void BM_LabelMapsOnly(benchmark::State& state) {
   const Case c = case_of(state);
-  const GaussianModel m = bench_scene(c.n, c.width, c.height);
+  const GaussianModel m = scene_of(c);
   const Camera cam = bench_camera(c.width, c.height);
   RenderSettings s;
   s.color = false;
@@ -122,7 +190,7 @@ void BM_LabelMapsOnly(benchmark::State& state) {
 // Backward alone (the forward's state is made once, outside the timing).
 void BM_Backward(benchmark::State& state) {
   const Case c = case_of(state);
-  const GaussianModel m = bench_scene(c.n, c.width, c.height);
+  const GaussianModel m = scene_of(c);
   const Camera cam = bench_camera(c.width, c.height);
   RenderSettings s;
   s.instance_labels = {2, 5, 7};
@@ -143,7 +211,7 @@ void BM_Backward(benchmark::State& state) {
 // A training iteration's rendering work: forward with the state, then backward.
 void BM_ForwardBackward(benchmark::State& state) {
   const Case c = case_of(state);
-  const GaussianModel m = bench_scene(c.n, c.width, c.height);
+  const GaussianModel m = scene_of(c);
   const Camera cam = bench_camera(c.width, c.height);
   RenderSettings s;
   RenderOutput out;
@@ -158,8 +226,11 @@ void BM_ForwardBackward(benchmark::State& state) {
   report(state, out, c);
 }
 
+// {Gaussians, resolution (1: 640x480, 2: 1280x960), scene (0: volume, 1: surface)}
 void sizes(benchmark::internal::Benchmark* b) {
-  b->Args({100000, 1})->Args({200000, 1})->Args({1000000, 1})->Args({100000, 2})->Args({1000000, 2});
+  for (int scene : {1, 0})
+    for (auto [n, res] : {std::pair{100000, 1}, {200000, 1}, {1000000, 1}, {100000, 2}, {1000000, 2}})
+      b->Args({n, res, scene});
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 

@@ -101,6 +101,9 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0
                    TileBackState& s, std::vector<float>& entry_grads) {
   int32_t last = 0;
   for (int b = 0; b < kBlocks; ++b) last = std::max(last, s.block_last[b]);
+  // Entries behind every pixel's last contributor get no gradient.
+  for (size_t k = size_t(last); k < tg.size(); ++k)
+    std::fill_n(&entry_grads[size_t(entries[k]) * kEntryGrads], kEntryGrads, 0.f);
   for (int32_t k = last - 1; k >= 0; --k) {
     const float* g_planes = nullptr;
     if constexpr (kInstance) g_planes = tg[k].plane >= 0 ? &s.g_planes[size_t(tg[k].plane) * kBlocks * kLanes] : &s.zeros[0][0];
@@ -159,9 +162,9 @@ void rasterize_backward(const RenderSettings& settings, RasterState& st,
   const bool instance = planes > 0;
   auto tile_fn = color ? (instance ? backward_tile<true, true> : backward_tile<true, false>)
                        : (instance ? backward_tile<false, true> : backward_tile<false, false>);
-  // Entries no pixel reaches keep zero: every entry is written or zeroed here.
+  // Every entry is written by the tile it belongs to: no zero fill needed.
   std::vector<float>& entry_grads = st.entry_grads;
-  entry_grads.assign(st.bins.num_entries() * kEntryGrads, 0.f);
+  entry_grads.resize(st.bins.num_entries() * kEntryGrads);
 
   const size_t tiles = size_t(st.bins.tiles_x) * st.bins.tiles_y;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const auto& range) {
@@ -170,7 +173,7 @@ void rasterize_backward(const RenderSettings& settings, RasterState& st,
     s->g_planes.assign(planes * kBlocks * kLanes, 0.f);
     for (size_t t = range.begin(); t < range.end(); ++t) {
       const uint32_t lo = st.bins.tile_start[t], hi = st.bins.tile_start[t + 1];
-      if (lo == hi) continue;
+      if (lo == hi) continue;  // no entries to write
       const int x0 = int(t % st.bins.tiles_x) * kTileSize, y0 = int(t / st.bins.tiles_x) * kTileSize;
       tg.gather(st, lo, hi);
       load_tile_state(settings, st, grads, color, planes, x0, y0, *s);

@@ -179,15 +179,16 @@ void rasterize_forward(const RenderSettings& settings, RasterState& st, RenderOu
   const bool labels = settings.instance_label_map || settings.baseline_label_map;
   out.width = W;
   out.height = H;
-  out.color.assign(settings.color ? 3 * pixels : 0, 0.f);
-  out.alpha.assign(pixels, 0.f);
-  out.depth.assign(pixels, 0.f);
-  out.contributors.assign(pixels, 0);
-  out.instance_maps.assign(planes * pixels, 0.f);
-  out.instance_label.assign(settings.instance_label_map ? pixels : 0, 0);
-  out.baseline_label.assign(settings.baseline_label_map ? pixels : 0, 0);
-  st.final_transmittance.assign(pixels, 1.f);
-  st.n_contrib.assign(pixels, 0);
+  // store_block writes every pixel of every output: sizes only, no fill.
+  out.color.resize(settings.color ? 3 * pixels : 0);
+  out.alpha.resize(pixels);
+  out.depth.resize(pixels);
+  out.contributors.resize(pixels);
+  out.instance_maps.resize(planes * pixels);
+  out.instance_label.resize(settings.instance_label_map ? pixels : 0);
+  out.baseline_label.resize(settings.baseline_label_map ? pixels : 0);
+  st.final_transmittance.resize(pixels);
+  st.n_contrib.resize(pixels);
   const BlockFunction block_fn = pick_block_function(settings.color, planes > 0, labels);
   pack_records(settings.color, st);
 

@@ -133,3 +133,83 @@ TEST(Renderer, RejectsBadSettings) {
 
 }  // namespace
 }  // namespace splat
+
+namespace splat {
+namespace {
+
+TEST(Renderer, EmptyTilesAroundAGaussianCluster) {
+  // All Gaussians in one corner of the view: most tiles are empty.
+  GaussianModel m = testing_scenes::random_scene(60, 31, 3, false);
+  for (size_t i = 0; i < m.size(); ++i) {
+    m.means[3 * i] = -1.1f + 0.1f * m.means[3 * i];
+    m.means[3 * i + 1] = -0.8f + 0.1f * m.means[3 * i + 1];
+    for (int k = 0; k < 3; ++k) m.log_scales[3 * i + k] = std::log(0.03f);
+  }
+  const Camera cam = testing_scenes::test_camera(96, 64);
+  RenderSettings s;
+  s.background[2] = 1.f;
+  s.instance_labels = {1};
+  const RenderOutput fast = CpuRenderer().render(m, cam, s);
+  const reference::Output ref = reference::render(reference::Params::from(m), cam, s);
+  size_t empty = 0;
+  for (size_t p = 0; p < ref.alpha.size(); ++p) {
+    ASSERT_NEAR(fast.color[3 * p + 2], ref.color[3 * p + 2], 1e-5);
+    ASSERT_NEAR(fast.instance_maps[p], ref.instance_maps[p], 1e-5);
+    empty += ref.alpha[p] == 0;
+  }
+  EXPECT_GT(empty, ref.alpha.size() / 2);
+}
+
+TEST(RendererBackward, GradientsDoNotDependOnThreadCount) {
+  const GaussianModel m = testing_scenes::random_scene(2000, 32);
+  const Camera cam = testing_scenes::test_camera(160, 120);
+  RenderSettings s;
+  s.instance_labels = {1, 2, 3};
+  const size_t pixels = size_t(cam.width) * cam.height;
+  RenderOutputGradients g;
+  g.color.assign(3 * pixels, 0.01f);
+  g.alpha.assign(pixels, -0.02f);
+  g.instance_maps.assign(3 * pixels, 0.03f);
+  auto run = [&] {
+    std::unique_ptr<RenderState> state;
+    CpuRenderer().render(m, cam, s, &state);
+    return CpuRenderer().backward(m, cam, s, *state, g);
+  };
+  GaussianGradients one;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = run();
+  }
+  const GaussianGradients many = run();
+  EXPECT_EQ(one.means, many.means);
+  EXPECT_EQ(one.sh_rest, many.sh_rest);
+  EXPECT_EQ(one.rotations, many.rotations);
+  EXPECT_EQ(one.instance_opacity_logits, many.instance_opacity_logits);
+  EXPECT_EQ(one.mean2d_ndc, many.mean2d_ndc);
+}
+
+TEST(RendererBackward, ReusedStateGivesTheSameResult) {
+  // A training loop passes the same state and outputs back every iteration.
+  const Camera cam = testing_scenes::test_camera(80, 60);
+  RenderSettings s;
+  s.instance_labels = {2};
+  std::unique_ptr<RenderState> state;
+  RenderOutput out;
+  GaussianGradients grads;
+  RenderOutputGradients g;
+  for (unsigned seed : {41u, 42u, 41u}) {
+    const GaussianModel m = testing_scenes::random_scene(seed == 42 ? 900 : 300, seed);
+    CpuRenderer().render(m, cam, s, out, &state);
+    g.color.assign(out.color.size(), 0.1f);
+    g.instance_maps.assign(out.instance_maps.size(), 0.1f);
+    CpuRenderer().backward(m, cam, s, *state, g, grads);
+    std::unique_ptr<RenderState> fresh;
+    const RenderOutput expected = CpuRenderer().render(m, cam, s, &fresh);
+    EXPECT_EQ(out.color, expected.color);
+    EXPECT_EQ(out.instance_maps, expected.instance_maps);
+    EXPECT_EQ(grads.means, CpuRenderer().backward(m, cam, s, *fresh, g).means);
+  }
+}
+
+}  // namespace
+}  // namespace splat
