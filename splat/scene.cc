@@ -61,6 +61,9 @@ std::unique_ptr<Scene> Scene::load(const fs::path& root, const SceneOptions& opt
     const auto [w, h] = target_size(full.width, full.height, options);
     v.camera = full.resized(w, h);
     v.file = (use_scaled ? scaled_dir : full_dir) / im.name;
+    v.file_is_downscaled = use_scaled;
+    v.file_width = use_scaled ? w : full.width;
+    v.file_height = use_scaled ? h : full.height;
     if (!fs::exists(v.file))
       throw InputError(v.file, fmt::format("image '{}' of the COLMAP model is missing", im.name));
     scene->views_.push_back(std::move(v));
@@ -82,15 +85,13 @@ std::unique_ptr<Scene> Scene::load(const fs::path& root, const SceneOptions& opt
 ImageRGB Scene::load_view(size_t i) const {
   const View& v = views_.at(i);
   ImageRGB image = read_image_rgb(v.file);
+  // Files in images_N/ may differ from the computed size by a rounding pixel.
+  const int slack = v.file_is_downscaled ? 1 : 0;
+  if (std::abs(image.width - v.file_width) > slack || std::abs(image.height - v.file_height) > slack)
+    throw InputError(v.file, fmt::format("image is {}x{} but its camera in the COLMAP model says "
+                                         "{}x{}",
+                                         image.width, image.height, v.file_width, v.file_height));
   if (image.width == v.camera.width && image.height == v.camera.height) return image;
-  // A full-size file, or an images_N file whose rounding differs by a pixel.
-  // Same aspect ratio up to the rounding of a downscaled size.
-  const double scaled_height = double(image.height) * v.camera.width / image.width;
-  if (std::abs(scaled_height - v.camera.height) > 1.0)
-    throw InputError(v.file, fmt::format("image is {}x{} but its camera is {}x{} (aspect ratio "
-                                         "differs)",
-                                         image.width, image.height, v.camera.width,
-                                         v.camera.height));
   return resize_area(image, v.camera.width, v.camera.height);
 }
 

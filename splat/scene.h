@@ -29,6 +29,10 @@ struct View {
   std::string name;              // image name as in the COLMAP model
   Camera camera;                 // at the loaded resolution
   std::filesystem::path file;    // decoded and area-resized to camera's size on load
+  // The size the file must have: the camera's full size for images/, within a
+  // pixel of the downscaled size for an images_N/ folder.
+  int file_width = 0, file_height = 0;
+  bool file_is_downscaled = false;
 };
 
 class Scene {

@@ -35,7 +35,9 @@ struct alignas(64) SplatRecord {
   float reach_x, reach_y;
   int32_t label;
   int32_t plane;         // instance map plane of the label, -1 if none
-  int32_t unused;
+  // Pixels with (d^T conic d) above this have alpha < 1/255: 2 ln(255 sigma),
+  // with a small margin.
+  float reach_level;
 };
 static_assert(sizeof(SplatRecord) == 64);
 

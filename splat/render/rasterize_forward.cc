@@ -1,6 +1,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "splat/render/fast_exp.h"
 #include "splat/render/pixel_block.h"
@@ -165,7 +166,7 @@ void pack_records(bool color, RasterState& st) {
       r.label = st.labels[i];
       const int32_t l = st.labels[i];
       r.plane = (l >= 0 && size_t(l) < st.map_of_label.size()) ? st.map_of_label[l] : -1;
-      r.unused = 0;
+      r.reach_level = 2.002f * std::log(255.f * r.opacity) + 1e-3f;
     }
   });
 }

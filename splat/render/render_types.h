@@ -51,6 +51,7 @@ struct RenderOutput {
   std::vector<float> instance_maps;
   std::vector<int32_t> instance_label;  // W * H if requested
   std::vector<int32_t> baseline_label;  // W * H if requested
+  std::vector<int32_t> radii;           // per Gaussian: screen radius in pixels, 0 if culled
 };
 
 // dLoss/d(output), same shapes as RenderOutput; empty vectors mean zero.

@@ -93,6 +93,7 @@ void CpuRenderer::render(const GaussianModel& model, const Camera& camera,
   project_gaussians(model, camera, settings, st.projected);
   bin_gaussians(st.projected, st.bins);
   rasterize_forward(settings, st, out);
+  out.radii = st.projected.radius;
   if (state && own) *state = std::move(own);
 }
 

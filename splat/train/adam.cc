@@ -1,0 +1,141 @@
+#include "splat/train/adam.h"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <istream>
+#include <ostream>
+#include <stdexcept>
+
+#include "splat/train/binary_io.h"
+
+namespace splat {
+
+const char* group_name(ParamGroup g) {
+  static const char* names[] = {"means", "sh_dc", "sh_rest", "opacity", "scales", "rotations",
+                                "instance_opacity"};
+  return names[int(g)];
+}
+
+int group_width(ParamGroup g) {
+  static const int widths[] = {3, 3, kShRestFloats, 1, 3, 4, 1};
+  return widths[int(g)];
+}
+
+std::vector<float>& group_values(GaussianModel& m, ParamGroup g) {
+  switch (g) {
+    case ParamGroup::kMeans: return m.means;
+    case ParamGroup::kShDc: return m.sh_dc;
+    case ParamGroup::kShRest: return m.sh_rest;
+    case ParamGroup::kOpacity: return m.opacity_logits;
+    case ParamGroup::kScales: return m.log_scales;
+    case ParamGroup::kRotations: return m.rotations;
+    case ParamGroup::kInstanceOpacity: return m.instance_opacity_logits;
+  }
+  throw std::logic_error("bad group");
+}
+
+const std::vector<float>& group_values(const GaussianModel& m, ParamGroup g) {
+  return group_values(const_cast<GaussianModel&>(m), g);
+}
+
+const std::vector<float>& group_gradients(const GaussianGradients& g, ParamGroup group) {
+  switch (group) {
+    case ParamGroup::kMeans: return g.means;
+    case ParamGroup::kShDc: return g.sh_dc;
+    case ParamGroup::kShRest: return g.sh_rest;
+    case ParamGroup::kOpacity: return g.opacity_logits;
+    case ParamGroup::kScales: return g.log_scales;
+    case ParamGroup::kRotations: return g.rotations;
+    case ParamGroup::kInstanceOpacity: return g.instance_opacity_logits;
+  }
+  throw std::logic_error("bad group");
+}
+
+GaussianAdam::GaussianAdam(size_t n, AdamOptions options) : options_(options) {
+  size_ = 0;
+  append(n);
+}
+
+void GaussianAdam::step(GaussianModel& model, const GaussianGradients& grads,
+                        const std::array<float, kParamGroups>& lr,
+                        const std::array<bool, kParamGroups>& skip) {
+  for (int gi = 0; gi < kParamGroups; ++gi) {
+    if (skip[gi] || lr[gi] <= 0) continue;
+    const ParamGroup g = ParamGroup(gi);
+    State& s = state_[gi];
+    std::vector<float>& p = group_values(model, g);
+    const std::vector<float>& grad = group_gradients(grads, g);
+    if (p.size() != s.m.size() || grad.size() != p.size())
+      throw std::logic_error(std::string("Adam: size mismatch in group ") + group_name(g));
+    ++s.step;
+    const double bc1 = 1 - std::pow(double(options_.beta1), double(s.step));
+    const double bc2_sqrt = std::sqrt(1 - std::pow(double(options_.beta2), double(s.step)));
+    const float step_size = float(lr[gi] / bc1), inv_bc2_sqrt = float(1 / bc2_sqrt);
+    const float b1 = options_.beta1, b2 = options_.beta2, eps = options_.eps;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, p.size(), 1 << 16), [&](const auto& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        s.m[i] = b1 * s.m[i] + (1 - b1) * grad[i];
+        s.v[i] = b2 * s.v[i] + (1 - b2) * grad[i] * grad[i];
+        p[i] -= step_size * s.m[i] / (std::sqrt(s.v[i]) * inv_bc2_sqrt + eps);
+      }
+    });
+  }
+}
+
+void GaussianAdam::append(size_t count) {
+  size_ += count;
+  for (int gi = 0; gi < kParamGroups; ++gi) {
+    const size_t w = size_t(group_width(ParamGroup(gi)));
+    state_[gi].m.resize(w * size_, 0.f);
+    state_[gi].v.resize(w * size_, 0.f);
+  }
+}
+
+void GaussianAdam::keep(const std::vector<uint8_t>& keep) {
+  if (keep.size() != size_) throw std::logic_error("Adam::keep: size mismatch");
+  for (int gi = 0; gi < kParamGroups; ++gi) {
+    const size_t w = size_t(group_width(ParamGroup(gi)));
+    State& s = state_[gi];
+    size_t out = 0;
+    for (size_t i = 0; i < size_; ++i) {
+      if (!keep[i]) continue;
+      for (size_t k = 0; k < w; ++k) {
+        s.m[w * out + k] = s.m[w * i + k];
+        s.v[w * out + k] = s.v[w * i + k];
+      }
+      ++out;
+    }
+    s.m.resize(w * out);
+    s.v.resize(w * out);
+  }
+  size_t kept = 0;
+  for (uint8_t k : keep) kept += k != 0;
+  size_ = kept;
+}
+
+void GaussianAdam::reset_moments(ParamGroup g) {
+  State& s = state_[int(g)];
+  std::fill(s.m.begin(), s.m.end(), 0.f);
+  std::fill(s.v.begin(), s.v.end(), 0.f);
+}
+
+void GaussianAdam::save(std::ostream& out) const {
+  write_pod(out, uint64_t(size_));
+  for (const State& s : state_) {
+    write_pod(out, s.step);
+    write_vector(out, s.m);
+    write_vector(out, s.v);
+  }
+}
+
+void GaussianAdam::load(std::istream& in) {
+  size_ = size_t(read_pod<uint64_t>(in));
+  for (State& s : state_) {
+    s.step = read_pod<int64_t>(in);
+    s.m = read_vector<float>(in);
+    s.v = read_vector<float>(in);
+  }
+}
+
+}  // namespace splat

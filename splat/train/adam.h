@@ -1,0 +1,71 @@
+#pragma once
+// Adam over the Gaussian parameter groups, as torch.optim.Adam computes it
+// (the reference 3DGS optimiser): per group a step count and first and second
+// moments per value, bias correction, eps = 1e-15. Groups can grow, shrink
+// and be reset when densification changes the set of Gaussians.
+
+#include <array>
+#include <cstdint>
+#include <iosfwd>
+#include <vector>
+
+#include "splat/gaussians.h"
+#include "splat/render/render_types.h"
+
+namespace splat {
+
+enum class ParamGroup { kMeans, kShDc, kShRest, kOpacity, kScales, kRotations, kInstanceOpacity };
+inline constexpr int kParamGroups = 7;
+const char* group_name(ParamGroup g);
+// Floats per Gaussian in each group.
+int group_width(ParamGroup g);
+
+// The model's and the gradients' array of a group.
+std::vector<float>& group_values(GaussianModel& m, ParamGroup g);
+const std::vector<float>& group_values(const GaussianModel& m, ParamGroup g);
+const std::vector<float>& group_gradients(const GaussianGradients& g, ParamGroup group);
+
+struct AdamOptions {
+  float beta1 = 0.9f;
+  float beta2 = 0.999f;
+  float eps = 1e-15f;
+  bool operator==(const AdamOptions&) const = default;
+};
+
+class GaussianAdam {
+ public:
+  explicit GaussianAdam(size_t num_gaussians, AdamOptions options = {});
+
+  // One Adam step of every group whose learning rate is given (> 0 or not
+  // skipped); groups in `skip` keep their values and step count (as torch
+  // skips parameters without a gradient).
+  void step(GaussianModel& model, const GaussianGradients& grads,
+            const std::array<float, kParamGroups>& learning_rates,
+            const std::array<bool, kParamGroups>& skip = {});
+
+  // Densification: new Gaussians appended with zero moments; removal keeps
+  // the Gaussians with keep[i] != 0 in order.
+  void append(size_t count);
+  void keep(const std::vector<uint8_t>& keep);
+  // Zero a group's moments (opacity reset); its step count stays.
+  void reset_moments(ParamGroup g);
+
+  size_t size() const { return size_; }
+  int64_t steps(ParamGroup g) const { return state_[int(g)].step; }
+
+  void save(std::ostream& out) const;
+  void load(std::istream& in);
+  bool operator==(const GaussianAdam&) const = default;
+
+ private:
+  struct State {
+    std::vector<float> m, v;
+    int64_t step = 0;
+    bool operator==(const State&) const = default;
+  };
+  AdamOptions options_;
+  size_t size_ = 0;
+  std::array<State, kParamGroups> state_;
+};
+
+}  // namespace splat

@@ -1,0 +1,173 @@
+#include "splat/train/densify.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "splat/train/binary_io.h"
+
+namespace splat {
+
+namespace {
+
+float sigmoid(float x) { return 1.f / (1.f + std::exp(-x)); }
+float logit(float p) { return std::log(p / (1 - p)); }
+
+// Appends a copy of Gaussian i (every parameter, label included).
+void append_copy(GaussianModel& m, size_t i) {
+  const size_t n = m.size();
+  m.resize(n + 1);
+  auto copy = [&](std::vector<float>& v, size_t w) {
+    std::copy_n(v.begin() + long(w * i), w, v.begin() + long(w * n));
+  };
+  copy(m.means, 3);
+  copy(m.sh_dc, 3);
+  copy(m.sh_rest, kShRestFloats);
+  copy(m.opacity_logits, 1);
+  copy(m.log_scales, 3);
+  copy(m.rotations, 4);
+  copy(m.instance_opacity_logits, 1);
+  m.labels[n] = m.labels[i];
+}
+
+void keep_gaussians(GaussianModel& m, const std::vector<uint8_t>& keep) {
+  auto compact = [&](auto& v, size_t w) {
+    size_t out = 0;
+    for (size_t i = 0; i < keep.size(); ++i) {
+      if (!keep[i]) continue;
+      for (size_t k = 0; k < w; ++k) v[w * out + k] = v[w * i + k];
+      ++out;
+    }
+    v.resize(w * out);
+  };
+  compact(m.means, 3);
+  compact(m.sh_dc, 3);
+  compact(m.sh_rest, kShRestFloats);
+  compact(m.opacity_logits, 1);
+  compact(m.log_scales, 3);
+  compact(m.rotations, 4);
+  compact(m.instance_opacity_logits, 1);
+  compact(m.labels, 1);
+}
+
+float max_scale(const GaussianModel& m, size_t i) {
+  return std::exp(std::max({m.log_scales[3 * i], m.log_scales[3 * i + 1], m.log_scales[3 * i + 2]}));
+}
+
+}  // namespace
+
+void DensificationStats::reset(size_t n) {
+  grad_accum.assign(n, 0.f);
+  count.assign(n, 0.f);
+  max_radius.assign(n, 0.f);
+}
+
+void DensificationStats::add(const GaussianGradients& g, const std::vector<int32_t>& radii) {
+  for (size_t i = 0; i < count.size(); ++i) {
+    if (!g.visible[i]) continue;
+    grad_accum[i] += std::hypot(g.mean2d_ndc[2 * i], g.mean2d_ndc[2 * i + 1]);
+    count[i] += 1.f;
+    max_radius[i] = std::max(max_radius[i], float(radii[i]));
+  }
+}
+
+void DensificationStats::save(std::ostream& out) const {
+  write_vector(out, grad_accum);
+  write_vector(out, count);
+  write_vector(out, max_radius);
+}
+
+void DensificationStats::load(std::istream& in) {
+  grad_accum = read_vector<float>(in);
+  count = read_vector<float>(in);
+  max_radius = read_vector<float>(in);
+}
+
+size_t prune(GaussianModel& model, GaussianAdam& adam, DensificationStats& stats,
+             const std::vector<uint8_t>& remove) {
+  std::vector<uint8_t> keep(remove.size());
+  size_t removed = 0;
+  for (size_t i = 0; i < remove.size(); ++i) {
+    keep[i] = !remove[i];
+    removed += remove[i] != 0;
+  }
+  keep_gaussians(model, keep);
+  adam.keep(keep);
+  auto compact = [&](std::vector<float>& v) {
+    size_t out = 0;
+    for (size_t i = 0; i < keep.size(); ++i)
+      if (keep[i]) v[out++] = v[i];
+    v.resize(out);
+  };
+  compact(stats.grad_accum);
+  compact(stats.count);
+  compact(stats.max_radius);
+  return removed;
+}
+
+DensifyResult densify_and_prune(GaussianModel& m, GaussianAdam& adam, DensificationStats& stats,
+                                double extent, bool prune_large, std::mt19937_64& rng,
+                                const DensifyOptions& o) {
+  DensifyResult result;
+  const size_t n0 = m.size();
+  std::vector<float> grad(n0);
+  for (size_t i = 0; i < n0; ++i)
+    grad[i] = stats.count[i] > 0 ? stats.grad_accum[i] / stats.count[i] : 0.f;
+  // Screen radii seen before this step: the pruning test uses them.
+  std::vector<float> radius = stats.max_radius;
+  const float dense = float(o.percent_dense * extent);
+
+  // Clone: small Gaussians with large gradients get a copy.
+  for (size_t i = 0; i < n0; ++i) {
+    if (grad[i] >= o.grad_threshold && max_scale(m, i) <= dense) {
+      append_copy(m, i);
+      ++result.cloned;
+    }
+  }
+  // Split: large ones are replaced by split_count samples from themselves.
+  std::vector<uint8_t> remove(m.size(), 0);
+  for (size_t i = 0; i < n0; ++i) {
+    if (!(grad[i] >= o.grad_threshold && max_scale(m, i) > dense)) continue;
+    const Eigen::Quaternionf q(m.rotations[4 * i], m.rotations[4 * i + 1], m.rotations[4 * i + 2],
+                               m.rotations[4 * i + 3]);
+    const Eigen::Matrix3f R = q.normalized().toRotationMatrix();
+    for (int s = 0; s < o.split_count; ++s) {
+      Eigen::Vector3f offset;
+      for (int k = 0; k < 3; ++k)
+        offset[k] = std::normal_distribution<float>(0.f, std::exp(m.log_scales[3 * i + k]))(rng);
+      const size_t j = m.size();
+      append_copy(m, i);
+      const Eigen::Vector3f mean = R * offset + Eigen::Vector3f(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
+      for (int k = 0; k < 3; ++k) {
+        m.means[3 * j + k] = mean[k];
+        m.log_scales[3 * j + k] = m.log_scales[3 * i + k] - std::log(o.split_scale_divisor);
+      }
+    }
+    remove[i] = 1;
+    ++result.split;
+  }
+  adam.append(m.size() - n0);
+  remove.resize(m.size(), 0);
+  radius.resize(m.size(), 0.f);
+
+  // Prune: transparent, and (after the first reset) too large.
+  for (size_t i = 0; i < m.size(); ++i) {
+    if (remove[i]) continue;
+    bool bad = sigmoid(m.opacity_logits[i]) < o.min_opacity;
+    if (prune_large)
+      bad = bad || radius[i] > o.max_screen_radius || max_scale(m, i) > o.max_world_scale * extent;
+    remove[i] = bad;
+    result.pruned += bad;
+  }
+  stats.reset(m.size());
+  prune(m, adam, stats, remove);
+  return result;
+}
+
+void reset_opacity(GaussianModel& m, GaussianAdam& adam, float max_opacity) {
+  const float cap = logit(max_opacity);
+  for (float& l : m.opacity_logits) l = std::min(l, cap);
+  adam.reset_moments(ParamGroup::kOpacity);
+}
+
+}  // namespace splat

@@ -1,0 +1,60 @@
+#pragma once
+// Adaptive density control of the reference 3DGS recipe
+// (../shared/spec/gaussian-splatting.md, "Densification").
+
+#include <cstdint>
+#include <iosfwd>
+#include <random>
+#include <vector>
+
+#include "splat/gaussians.h"
+#include "splat/render/render_types.h"
+#include "splat/train/adam.h"
+
+namespace splat {
+
+struct DensifyOptions {
+  float grad_threshold = 0.0002f;   // on the mean NDC gradient norm
+  float percent_dense = 0.01f;      // clone if largest scale <= this * extent, else split
+  int split_count = 2;              // split into this many
+  float split_scale_divisor = 1.6f;  // 0.8 * split_count in the reference
+  float min_opacity = 0.005f;       // prune below
+  float max_screen_radius = 20.f;   // prune above (after the first opacity reset)
+  float max_world_scale = 0.1f;     // prune largest scale above this * extent (likewise)
+};
+
+// Per-Gaussian statistics accumulated between densification steps.
+struct DensificationStats {
+  std::vector<float> grad_accum;  // sum of |d loss / d mean2d (NDC)| over visible iterations
+  std::vector<float> count;       // iterations the Gaussian was visible
+  std::vector<float> max_radius;  // largest screen radius seen
+
+  void reset(size_t n);
+  // Adds one iteration's statistics (gradients and radii of that render).
+  void add(const GaussianGradients& grads, const std::vector<int32_t>& radii);
+  void save(std::ostream& out) const;
+  void load(std::istream& in);
+  bool operator==(const DensificationStats&) const = default;
+};
+
+struct DensifyResult {
+  size_t cloned = 0, split = 0, pruned = 0;
+};
+
+// Clones small Gaussians and splits large ones whose mean gradient is at
+// least the threshold, then prunes transparent ones (and, with prune_large,
+// those too large on screen or in the world). The optimiser's state follows;
+// the statistics are reset. Split offsets are drawn from rng.
+DensifyResult densify_and_prune(GaussianModel& model, GaussianAdam& adam, DensificationStats& stats,
+                                double extent, bool prune_large, std::mt19937_64& rng,
+                                const DensifyOptions& options = {});
+
+// Only pruning (used by the tests and by stage two's clean-up if wanted).
+size_t prune(GaussianModel& model, GaussianAdam& adam, DensificationStats& stats,
+             const std::vector<uint8_t>& remove);
+
+// Opacity reset: opacity = min(opacity, max_opacity), moments of the opacity
+// group zeroed.
+void reset_opacity(GaussianModel& model, GaussianAdam& adam, float max_opacity = 0.01f);
+
+}  // namespace splat

@@ -1,0 +1,38 @@
+#pragma once
+// A whole stage-one run into a work folder, as op2gs-train performs it:
+//
+//   <work>/checkpoints/latest.ckpt        resumable state (atomically replaced)
+//   <work>/point_cloud/iteration_N/point_cloud.ply   standard 3DGS PLY
+//   <work>/test/renders/<view>.png        test renders at the end
+//   <work>/metrics.json                   test PSNR / SSIM per view and mean
+//   <work>/train_log.jsonl, training_curve.png, options.json
+
+#include <filesystem>
+#include <vector>
+
+#include "splat/train/trainer.h"
+
+namespace splat {
+
+struct TrainRunOptions {
+  TrainOptions train;
+  int stop_at = 20000;             // stage one ends here by default
+  int checkpoint_every = 1000;
+  std::vector<int> ply_at;         // extra iterations with a PLY (the end always has one)
+  std::vector<int> test_at;        // iterations with a test evaluation (the end always has one)
+  bool resume = false;             // continue from <work>/checkpoints/latest.ckpt
+  void Check() const;
+};
+
+struct TrainRunResult {
+  int iteration = 0;
+  size_t gaussians = 0;
+  double test_psnr = 0, test_ssim = 0;
+  size_t test_views = 0;
+  double seconds = 0;
+};
+
+TrainRunResult run_training(const std::filesystem::path& scene_dir,
+                            const std::filesystem::path& work_dir, const TrainRunOptions& options);
+
+}  // namespace splat

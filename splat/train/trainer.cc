@@ -1,0 +1,258 @@
+#include "splat/train/trainer.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "splat/atomic_file.h"
+#include "splat/error.h"
+#include "splat/train/binary_io.h"
+#include "splat/train/initialize.h"
+
+namespace splat {
+namespace fs = std::filesystem;
+
+void TrainOptions::Check() const {
+  scene.Check();
+  auto fail = [](const std::string& s) { throw std::invalid_argument(s); };
+  if (total_iterations < 1) fail("total_iterations must be >= 1");
+  if (sh_degree < 0 || sh_degree > 3) fail("sh_degree must be 0..3");
+  if (sh_increase_every < 1) fail("sh_increase_every must be >= 1");
+  if (densify_every < 1 || opacity_reset_every < 1) fail("densification intervals must be >= 1");
+  for (float lr : {lr_position_init, lr_position_final, lr_sh_dc, lr_sh_rest, lr_opacity, lr_scale,
+                   lr_rotation, lr_instance_opacity})
+    if (!(lr >= 0)) fail("learning rates must be >= 0");
+  if (!(loss.lambda_ssim >= 0 && loss.lambda_ssim <= 1)) fail("lambda_ssim must be in [0, 1]");
+}
+
+ViewSplit split_views(const Scene& scene, SplitRule rule) {
+  ViewSplit s;
+  const fs::path train_dir = scene.root() / "images_train";
+  if (rule == SplitRule::kAuto) rule = fs::is_directory(train_dir) ? SplitRule::kLerfMask : SplitRule::kEvery8;
+  const auto& views = scene.views();
+  for (size_t i = 0; i < views.size(); ++i) {
+    bool test = false;
+    if (rule == SplitRule::kLerfMask) test = !fs::exists(train_dir / views[i].name);
+    if (rule == SplitRule::kEvery8) test = i % 8 == 0;
+    (test ? s.test : s.train).push_back(i);
+  }
+  s.rule = rule == SplitRule::kLerfMask ? "lerf-mask (images_train/)" : rule == SplitRule::kEvery8 ? "every 8th view" : "all views";
+  if (s.train.empty()) throw InputError(train_dir, "no training views (images_train/ matches no image of the model)");
+  return s;
+}
+
+Trainer::Trainer(const fs::path& scene_dir, const TrainOptions& options)
+    : options_(options), rng_(options.seed) {
+  options_.Check();
+  scene_ = Scene::load(scene_dir, options_.scene);
+  split_ = split_views(*scene_, options_.split);
+  extent_ = scene_->extent();
+}
+
+void Trainer::initialize_from_sfm() {
+  if (scene_->points().empty())
+    throw InputError(scene_->root() / options_.scene.sparse_dir,
+                     "the COLMAP model has no 3D points to start from (run op2gs-sfm)");
+  model_ = initialize_from_points(scene_->points(), scene_->point_colors());
+  adam_ = GaussianAdam(model_.size());
+  stats_.reset(model_.size());
+  iteration_ = 0;
+  sh_degree_ = 0;
+  view_stack_.clear();
+}
+
+float Trainer::position_learning_rate(int iteration) const {
+  // The reference's get_expon_lr_func: log-linear from init to final.
+  const double t = std::clamp(double(iteration) / options_.total_iterations, 0.0, 1.0);
+  const double lr = std::exp(std::log(options_.lr_position_init) * (1 - t) +
+                             std::log(options_.lr_position_final) * t);
+  return float(lr * extent_);
+}
+
+size_t Trainer::next_view() {
+  if (view_stack_.empty()) view_stack_ = split_.train;
+  const size_t k = std::uniform_int_distribution<size_t>(0, view_stack_.size() - 1)(rng_);
+  const size_t view = view_stack_[k];
+  view_stack_.erase(view_stack_.begin() + long(k));
+  return view;
+}
+
+RenderSettings Trainer::render_settings() const {
+  RenderSettings s;
+  std::copy_n(options_.background, 3, s.background);
+  s.sh_degree = sh_degree_;
+  return s;
+}
+
+void Trainer::train_until(int until, const std::function<void(const IterationStats&)>& on_iteration) {
+  const TrainOptions& o = options_;
+  while (iteration_ < until) {
+    const int it = ++iteration_;
+    IterationStats st;
+    st.iteration = it;
+    st.lr_position = position_learning_rate(it);
+    if (it % o.sh_increase_every == 0 && sh_degree_ < o.sh_degree) ++sh_degree_;
+    st.sh_degree = sh_degree_;
+
+    const size_t view = next_view();
+    const Camera& cam = scene_->views()[view].camera;
+    const auto target = scene_->image(view);
+    const RenderSettings settings = render_settings();
+    renderer_.render(model_, cam, settings, render_out_, &render_state_);
+    st.loss = image_loss(render_out_.color, *target, o.loss, &out_grads_.color);
+    if (!std::isfinite(st.loss.total))
+      throw TrainingDiverged(fmt::format("the loss is not finite at iteration {} (view {}); "
+                                         "nothing was saved after the last checkpoint",
+                                         it, scene_->views()[view].name));
+    st.psnr = psnr(render_out_.color, target->data);
+    renderer_.backward(model_, cam, settings, *render_state_, out_grads_, grads_);
+
+    std::array<bool, kParamGroups> skip{};
+    if (it < o.densify_until) {
+      stats_.add(grads_, render_out_.radii);
+      if (it > o.densify_from && it % o.densify_every == 0) {
+        st.densified = densify_and_prune(model_, adam_, stats_, extent_, it > o.opacity_reset_every,
+                                         rng_, o.densify);
+        skip.fill(true);  // every parameter array was replaced
+      }
+      if (it % o.opacity_reset_every == 0) {
+        reset_opacity(model_, adam_);
+        skip[int(ParamGroup::kOpacity)] = true;
+        st.opacity_reset = true;
+      }
+    }
+    if (it < o.total_iterations) {
+      const std::array<float, kParamGroups> lr = {st.lr_position, o.lr_sh_dc, o.lr_sh_rest, o.lr_opacity,
+                                                  o.lr_scale, o.lr_rotation, o.lr_instance_opacity};
+      adam_.step(model_, grads_, lr, skip);
+    }
+    st.gaussians = model_.size();
+    if (on_iteration) on_iteration(st);
+  }
+}
+
+std::vector<ViewMetrics> Trainer::evaluate(const std::vector<size_t>& views, const fs::path& render_dir) {
+  std::vector<ViewMetrics> metrics;
+  RenderSettings settings = render_settings();
+  settings.sh_degree = sh_degree_;
+  for (size_t v : views) {
+    const View& view = scene_->views()[v];
+    const RenderOutput out = renderer_.render(model_, view.camera, settings);
+    const auto target = scene_->image(v);
+    ViewMetrics m{view.name, psnr(out.color, target->data),
+                  ssim(out.color, target->data, target->width, target->height)};
+    metrics.push_back(m);
+    if (!render_dir.empty()) {
+      ImageRGB image(out.width, out.height);
+      for (size_t i = 0; i < image.data.size(); ++i) image.data[i] = std::clamp(out.color[i], 0.f, 1.f);
+      write_image_rgb(render_dir / (fs::path(view.name).stem().string() + ".png"), image);
+    }
+  }
+  return metrics;
+}
+
+// ------------------------------------------------------------ checkpoint ---
+
+namespace {
+constexpr char kMagic[8] = {'O', 'P', '2', 'G', 'S', 'C', 'K', 'P'};
+constexpr uint32_t kVersion = 1;
+
+void write_model(std::ostream& out, const GaussianModel& m) {
+  for (const auto* v : {&m.means, &m.sh_dc, &m.sh_rest, &m.opacity_logits, &m.log_scales,
+                        &m.rotations, &m.instance_opacity_logits})
+    write_vector(out, *v);
+  write_vector(out, m.labels);
+  write_pod(out, uint8_t(m.has_instance_opacity));
+  write_pod(out, uint8_t(m.has_labels));
+}
+
+GaussianModel read_model(std::istream& in) {
+  GaussianModel m;
+  for (auto* v : {&m.means, &m.sh_dc, &m.sh_rest, &m.opacity_logits, &m.log_scales, &m.rotations,
+                  &m.instance_opacity_logits})
+    *v = read_vector<float>(in);
+  m.labels = read_vector<int32_t>(in);
+  m.has_instance_opacity = read_pod<uint8_t>(in);
+  m.has_labels = read_pod<uint8_t>(in);
+  const size_t n = m.opacity_logits.size();
+  if (m.means.size() != 3 * n || m.sh_rest.size() != kShRestFloats * n || m.rotations.size() != 4 * n ||
+      m.labels.size() != n)
+    throw std::runtime_error("inconsistent model arrays");
+  return m;
+}
+
+bool all_finite(const GaussianModel& m) {
+  for (const auto* v : {&m.means, &m.sh_dc, &m.sh_rest, &m.opacity_logits, &m.log_scales,
+                        &m.rotations, &m.instance_opacity_logits})
+    for (float x : *v)
+      if (!std::isfinite(x)) return false;
+  return true;
+}
+}  // namespace
+
+void Trainer::save_checkpoint(const fs::path& file) const {
+  if (!all_finite(model_))
+    throw TrainingDiverged(fmt::format("the model holds non-finite values at iteration {}; the "
+                                       "checkpoint {} was not written",
+                                       iteration_, file.string()));
+  std::ostringstream out(std::ios::binary);
+  out.write(kMagic, 8);
+  write_pod(out, kVersion);
+  write_pod(out, int32_t(iteration_));
+  write_pod(out, int32_t(sh_degree_));
+  write_model(out, model_);
+  adam_.save(out);
+  stats_.save(out);
+  std::ostringstream rng;
+  rng << rng_;
+  const std::string rng_state = rng.str();
+  write_vector(out, std::vector<char>(rng_state.begin(), rng_state.end()));
+  std::vector<uint64_t> stack(view_stack_.begin(), view_stack_.end());
+  write_vector(out, stack);
+  std::vector<char> names;
+  for (size_t v : split_.train) {
+    const std::string& n = scene_->views()[v].name;
+    names.insert(names.end(), n.begin(), n.end());
+    names.push_back('\n');
+  }
+  write_vector(out, names);
+  write_text_atomically(file, out.str());
+}
+
+void Trainer::load_checkpoint(const fs::path& file) {
+  std::istringstream in(read_text_file(file), std::ios::binary);
+  char magic[8];
+  if (!in.read(magic, 8) || !std::equal(magic, magic + 8, kMagic))
+    throw InputError(file, "not an op2gs checkpoint");
+  try {
+    if (read_pod<uint32_t>(in) != kVersion) throw InputError(file, "unsupported checkpoint version");
+    iteration_ = read_pod<int32_t>(in);
+    sh_degree_ = read_pod<int32_t>(in);
+    model_ = read_model(in);
+    adam_.load(in);
+    stats_.load(in);
+    const std::vector<char> rng_state = read_vector<char>(in);
+    std::istringstream rng(std::string(rng_state.begin(), rng_state.end()));
+    rng >> rng_;
+    const std::vector<uint64_t> stack = read_vector<uint64_t>(in);
+    view_stack_.assign(stack.begin(), stack.end());
+    const std::vector<char> names = read_vector<char>(in);
+    std::string expected;
+    for (size_t v : split_.train) expected += scene_->views()[v].name + "\n";
+    if (std::string(names.begin(), names.end()) != expected)
+      throw InputError(file, "the checkpoint was made with other training views than this scene has");
+    if (adam_.size() != model_.size() || stats_.count.size() != model_.size())
+      throw InputError(file, "checkpoint arrays disagree in size");
+    for (size_t v : view_stack_)
+      if (v >= scene_->views().size()) throw InputError(file, "checkpoint refers to a missing view");
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(file, std::string("corrupt checkpoint: ") + e.what());
+  }
+}
+
+}  // namespace splat

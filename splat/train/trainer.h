@@ -1,0 +1,143 @@
+#pragma once
+// Stage one: the reference 3DGS training recipe
+// (../shared/spec/gaussian-splatting.md) on a scene folder.
+//
+// One iteration, as the reference's train.py orders it (iterations count
+// from 1): set the position learning rate; every 1,000 iterations raise the SH
+// degree; take a random training view (each view once per epoch); render;
+// L1 + SSIM loss and its gradient; backward; accumulate densification
+// statistics, densify and prune, reset opacity; Adam step (skipped for the
+// parameters that densification or the reset replaced this iteration, as
+// torch skips parameters without a gradient, and after the schedule's last
+// iteration).
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "splat/gaussians.h"
+#include "splat/render/renderer.h"
+#include "splat/scene.h"
+#include "splat/train/adam.h"
+#include "splat/train/densify.h"
+#include "splat/train/image_loss.h"
+
+namespace splat {
+
+enum class SplitRule { kAuto, kLerfMask, kEvery8, kAll };
+
+struct TrainOptions {
+  SceneOptions scene;
+  SplitRule split = SplitRule::kAuto;  // auto: images_train/ if present, else every 8th
+  uint64_t seed = 0;
+
+  int total_iterations = 30000;  // the schedule's length (learning rate decay, last step)
+  int sh_degree = 3;
+  int sh_increase_every = 1000;
+  float background[3] = {0, 0, 0};
+
+  float lr_position_init = 1.6e-4f;  // times the scene extent
+  float lr_position_final = 1.6e-6f;
+  float lr_sh_dc = 2.5e-3f;
+  float lr_sh_rest = 2.5e-3f / 20;
+  float lr_opacity = 0.05f;
+  float lr_scale = 5e-3f;
+  float lr_rotation = 1e-3f;
+  float lr_instance_opacity = 0.f;  // stage one does not train sigma*
+  ImageLossOptions loss;
+
+  int densify_from = 500;
+  int densify_until = 15000;
+  int densify_every = 100;
+  int opacity_reset_every = 3000;
+  DensifyOptions densify;
+
+  // Throws std::invalid_argument with a one-line message.
+  void Check() const;
+};
+
+// The training and test views of a scene under a split rule, by index into
+// Scene::views() (sorted by name).
+struct ViewSplit {
+  std::vector<size_t> train, test;
+  std::string rule;  // which rule was applied
+};
+ViewSplit split_views(const Scene& scene, SplitRule rule);
+
+struct IterationStats {
+  int iteration = 0;
+  ImageLoss loss;
+  double psnr = 0;        // of this iteration's training view
+  size_t gaussians = 0;
+  float lr_position = 0;
+  int sh_degree = 0;
+  DensifyResult densified;  // what densification did this iteration, if anything
+  bool opacity_reset = false;
+};
+
+struct ViewMetrics {
+  std::string name;
+  double psnr = 0, ssim = 0;
+};
+
+// Raised when training produces a non-finite loss; nothing is saved then.
+class TrainingDiverged : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Trainer {
+ public:
+  // Loads the scene (lazily) and splits its views.
+  Trainer(const std::filesystem::path& scene_dir, const TrainOptions& options);
+
+  // Starts from the scene's SfM points. Throws InputError if there are none.
+  void initialize_from_sfm();
+  // Continues exactly where the checkpoint stopped.
+  void load_checkpoint(const std::filesystem::path& file);
+  void save_checkpoint(const std::filesystem::path& file) const;
+
+  // Runs iterations until `iteration() == until`; calls on_iteration after
+  // each one. Throws TrainingDiverged on a non-finite loss.
+  void train_until(int until, const std::function<void(const IterationStats&)>& on_iteration = {});
+
+  // Renders the test views; writes PNGs into render_dir if not empty.
+  std::vector<ViewMetrics> evaluate(const std::vector<size_t>& views,
+                                    const std::filesystem::path& render_dir = {});
+
+  int iteration() const { return iteration_; }
+  const GaussianModel& model() const { return model_; }
+  GaussianModel& model() { return model_; }
+  const ViewSplit& split() const { return split_; }
+  Scene& scene() { return *scene_; }
+  const TrainOptions& options() const { return options_; }
+  float position_learning_rate(int iteration) const;
+
+ private:
+  size_t next_view();
+  RenderSettings render_settings() const;
+
+  TrainOptions options_;
+  std::unique_ptr<Scene> scene_;
+  ViewSplit split_;
+  double extent_ = 0;
+  GaussianModel model_;
+  GaussianAdam adam_{0};
+  DensificationStats stats_;
+  int iteration_ = 0;
+  int sh_degree_ = 0;
+  std::mt19937_64 rng_;
+  std::vector<size_t> view_stack_;
+  CpuRenderer renderer_;
+  // Reused from iteration to iteration.
+  std::unique_ptr<RenderState> render_state_;
+  RenderOutput render_out_;
+  RenderOutputGradients out_grads_;
+  GaussianGradients grads_;
+};
+
+}  // namespace splat

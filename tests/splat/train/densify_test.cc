@@ -1,0 +1,99 @@
+#include "splat/train/densify.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "splat/train/initialize.h"
+
+namespace splat {
+namespace {
+
+// Three Gaussians: 0 small with a large gradient (clone), 1 large with a
+// large gradient (split), 2 transparent (prune).
+struct Fixture {
+  GaussianModel m;
+  GaussianAdam adam{0};
+  DensificationStats stats;
+  Fixture() {
+    m.resize(3);
+    const float small = std::log(0.005f), large = std::log(0.5f);
+    for (int k = 0; k < 3; ++k) {
+      m.log_scales[k] = small;
+      m.log_scales[3 + k] = large;
+      m.log_scales[6 + k] = small;
+      m.means[3 + k] = 1.f;
+    }
+    m.opacity_logits = {2.f, 2.f, std::log(0.001f / 0.999f)};
+    m.labels = {7, 8, 9};
+    adam = GaussianAdam(3);
+    stats.reset(3);
+    stats.grad_accum = {0.003f, 0.003f, 0.f};  // mean 0.0003 over 10 views
+    stats.count = {10.f, 10.f, 10.f};
+  }
+};
+
+TEST(Densify, ClonesSmallSplitsLargePrunesTransparent) {
+  Fixture f;
+  std::mt19937_64 rng(1);
+  const DensifyResult r = densify_and_prune(f.m, f.adam, f.stats, /*extent=*/1.0, false, rng);
+  EXPECT_EQ(r.cloned, 1u);
+  EXPECT_EQ(r.split, 1u);
+  EXPECT_EQ(r.pruned, 1u);
+  // Kept: Gaussian 0, its clone, and the two halves of Gaussian 1.
+  ASSERT_EQ(f.m.size(), 4u);
+  EXPECT_EQ(f.m.labels, (std::vector<int32_t>{7, 7, 8, 8}));
+  EXPECT_EQ(f.m.means[0], f.m.means[3]) << "a clone sits where its source is";
+  for (int half : {2, 3}) {
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(std::exp(f.m.log_scales[3 * half + k]), 0.5 / 1.6, 1e-6) << "split scales / 1.6";
+    EXPECT_GT(std::abs(f.m.means[3 * half] - 1.f), 0.f) << "split samples move";
+  }
+  EXPECT_EQ(f.adam.size(), 4u);
+  EXPECT_EQ(f.stats.count.size(), 4u);
+  EXPECT_EQ(f.stats.grad_accum[0], 0.f) << "statistics reset";
+}
+
+TEST(Densify, BelowThresholdNothingGrows) {
+  Fixture f;
+  f.stats.grad_accum = {0.0019f, 0.0019f, 0.f};
+  std::mt19937_64 rng(1);
+  const DensifyResult r = densify_and_prune(f.m, f.adam, f.stats, 1.0, false, rng);
+  EXPECT_EQ(r.cloned + r.split, 0u);
+  EXPECT_EQ(f.m.size(), 2u);
+}
+
+TEST(Densify, LargeOnScreenOrInWorldArePrunedAfterFirstReset) {
+  Fixture f;
+  f.stats.grad_accum = {0, 0, 0};
+  f.stats.max_radius = {25.f, 1.f, 1.f};  // 0 is too large on screen
+  std::mt19937_64 rng(1);
+  // Gaussian 1 is 0.5 > 0.1 * extent (extent 1): too large in the world.
+  const DensifyResult r = densify_and_prune(f.m, f.adam, f.stats, 1.0, /*prune_large=*/true, rng);
+  EXPECT_EQ(r.pruned, 3u);
+  EXPECT_EQ(f.m.size(), 0u);
+}
+
+TEST(Densify, ResetOpacityCapsAt001) {
+  Fixture f;
+  reset_opacity(f.m, f.adam);
+  EXPECT_NEAR(1 / (1 + std::exp(-f.m.opacity_logits[0])), 0.01, 1e-6);
+  EXPECT_LT(f.m.opacity_logits[2], std::log(0.01f / 0.99f)) << "lower opacities stay";
+}
+
+TEST(Initialize, FromPointsAsTheReference) {
+  const std::vector<Eigen::Vector3d> pts = {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, 3}, {10, 10, 10}};
+  const std::vector<Eigen::Vector3f> cols(5, Eigen::Vector3f(1.f, 0.5f, 0.f));
+  const std::vector<double> d2 = mean_squared_knn_distance(pts);
+  EXPECT_NEAR(d2[0], (1 + 4 + 9) / 3.0, 1e-12);
+  const GaussianModel m = initialize_from_points(pts, cols);
+  EXPECT_NEAR(m.log_scales[0], std::log(std::sqrt(14.0 / 3)), 1e-6);
+  EXPECT_NEAR(m.sh_dc[0], 0.5f / 0.28209479177387814f, 1e-5);
+  EXPECT_NEAR(m.sh_dc[1], 0.f, 1e-7);
+  EXPECT_NEAR(1 / (1 + std::exp(-m.opacity_logits[0])), 0.1, 1e-6);
+  EXPECT_EQ(m.rotations[0], 1.f);
+  EXPECT_EQ(m.sh_rest[5], 0.f);
+}
+
+}  // namespace
+}  // namespace splat

@@ -1,0 +1,153 @@
+// End-to-end tests of stage one on a tiny synthetic scene.
+
+#include "splat/train/trainer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "eval/synthetic/generator.h"
+#include "splat/atomic_file.h"
+#include "splat/error.h"
+#include "splat/image.h"
+#include "splat/train/train_run.h"
+#include "tests/test_util.h"
+
+namespace splat {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_util::TempDir;
+
+// A 16-view 96x72 scene; generated once for the whole suite.
+const fs::path& tiny_scene() {
+  static const fs::path dir = [] {
+    const fs::path d = fs::temp_directory_path() / ("op2gs_trainer_scene_" + std::to_string(::getpid()));
+    synth::SynthOptions o;
+    o.views = 16;
+    o.width = 96;
+    o.height = 72;
+    o.supersample = 2;
+    o.num_points = 3000;
+    synth::generate_scene(o, d, true);
+    return d;
+  }();
+  return dir;
+}
+
+TrainOptions quick_options() {
+  TrainOptions o;
+  o.densify_from = 100;
+  o.densify_every = 50;
+  o.opacity_reset_every = 1000;
+  o.total_iterations = 3000;
+  return o;
+}
+
+double mean_test_psnr(Trainer& t) {
+  double sum = 0;
+  const auto metrics = t.evaluate(t.split().test);
+  for (const auto& m : metrics) sum += m.psnr;
+  return sum / metrics.size();
+}
+
+TEST(Trainer, TestPsnrRisesWellAboveTheStart) {
+  Trainer t(tiny_scene(), quick_options());
+  t.initialize_from_sfm();
+  ASSERT_EQ(t.split().test.size(), 2u);  // views 0 and 8
+  const double before = mean_test_psnr(t);
+  size_t densified = 0;
+  t.train_until(400, [&](const IterationStats& s) { densified += s.densified.cloned + s.densified.split; });
+  const double after = mean_test_psnr(t);
+  EXPECT_GT(after, before + 5.0) << "before " << before << " dB, after " << after << " dB";
+  EXPECT_GT(densified, 0u);
+  EXPECT_GT(t.model().size(), 3000u);
+}
+
+TEST(Trainer, ResumeGivesTheSameParametersAsAnUninterruptedRun) {
+  TempDir dir;
+  Trainer straight(tiny_scene(), quick_options());
+  straight.initialize_from_sfm();
+  straight.train_until(260);  // crosses densification steps (150, 200, 250)
+
+  Trainer first(tiny_scene(), quick_options());
+  first.initialize_from_sfm();
+  first.train_until(170);
+  first.save_checkpoint(dir / "ckpt");
+  Trainer resumed(tiny_scene(), quick_options());
+  resumed.load_checkpoint(dir / "ckpt");
+  EXPECT_EQ(resumed.iteration(), 170);
+  resumed.train_until(260);
+  EXPECT_TRUE(resumed.model() == straight.model()) << "resumed run differs from the uninterrupted one";
+}
+
+TEST(Trainer, SameSeedSameModel) {
+  Trainer a(tiny_scene(), quick_options()), b(tiny_scene(), quick_options());
+  a.initialize_from_sfm();
+  b.initialize_from_sfm();
+  a.train_until(120);
+  b.train_until(120);
+  EXPECT_TRUE(a.model() == b.model());
+}
+
+TEST(Trainer, NonFiniteLossStopsAndIsNeverCheckpointed) {
+  TempDir dir;
+  Trainer t(tiny_scene(), quick_options());
+  t.initialize_from_sfm();
+  std::fill(t.model().sh_dc.begin(), t.model().sh_dc.end(), std::nanf(""));
+  EXPECT_THROW(t.train_until(5), TrainingDiverged);
+  EXPECT_THROW(t.save_checkpoint(dir / "ckpt"), TrainingDiverged);
+  EXPECT_FALSE(fs::exists(dir / "ckpt"));
+}
+
+TEST(Trainer, BadInputIsReportedWithTheFile) {
+  TempDir dir;
+  fs::copy(tiny_scene(), dir / "s", fs::copy_options::recursive);
+  {  // an image of the wrong size for its camera
+    write_image_rgb(dir / "s" / "images" / "frame_00003.png", ImageRGB(50, 40));
+    TrainOptions o = quick_options();
+    o.split = SplitRule::kAll;
+    Trainer t(dir / "s", o);
+    t.initialize_from_sfm();
+    try {
+      t.train_until(40);
+      FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("frame_00003.png"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("50x40"), std::string::npos) << e.what();
+    }
+  }
+  {  // a missing image
+    fs::remove(dir / "s" / "images" / "frame_00005.png");
+    EXPECT_THROW(Trainer(dir / "s", quick_options()), InputError);
+  }
+  {  // a model with no points
+    TempDir empty;
+    fs::copy(tiny_scene(), empty / "s", fs::copy_options::recursive);
+    splat::write_text_atomically(empty / "s" / "sparse" / "0" / "points3D.txt", "");
+    Trainer t(empty / "s", quick_options());
+    EXPECT_THROW(t.initialize_from_sfm(), InputError);
+  }
+}
+
+TEST(TrainRun, WritesEveryArtifactAndResumes) {
+  TempDir dir;
+  TrainRunOptions o;
+  o.train = quick_options();
+  o.stop_at = 120;
+  o.checkpoint_every = 50;
+  o.ply_at = {100};
+  const TrainRunResult r = run_training(tiny_scene(), dir / "work", o);
+  EXPECT_EQ(r.iteration, 120);
+  EXPECT_EQ(r.test_views, 2u);
+  for (const char* f : {"checkpoints/latest.ckpt", "point_cloud/iteration_100/point_cloud.ply",
+                        "point_cloud/iteration_120/point_cloud.ply", "test/renders/frame_00000.png",
+                        "metrics.json", "train_log.jsonl", "training_curve.png"})
+    EXPECT_TRUE(fs::exists(dir / "work" / f)) << f;
+  o.stop_at = 150;
+  o.resume = true;
+  EXPECT_EQ(run_training(tiny_scene(), dir / "work", o).iteration, 150);
+}
+
+}  // namespace
+}  // namespace splat
