@@ -59,7 +59,7 @@ GaussianAdam::GaussianAdam(size_t n, AdamOptions options) : options_(options) {
 
 void GaussianAdam::step(GaussianModel& model, const GaussianGradients& grads,
                         const std::array<float, kParamGroups>& lr,
-                        const std::array<bool, kParamGroups>& skip) {
+                        const std::array<bool, kParamGroups>& skip, int active_sh_degree) {
   for (int gi = 0; gi < kParamGroups; ++gi) {
     if (skip[gi] || lr[gi] <= 0) continue;
     const ParamGroup g = ParamGroup(gi);
@@ -73,13 +73,26 @@ void GaussianAdam::step(GaussianModel& model, const GaussianGradients& grads,
     const double bc2_sqrt = std::sqrt(1 - std::pow(double(options_.beta2), double(s.step)));
     const float step_size = float(lr[gi] / bc1), inv_bc2_sqrt = float(1 / bc2_sqrt);
     const float b1 = options_.beta1, b2 = options_.beta2, eps = options_.eps;
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, p.size(), 1 << 16), [&](const auto& r) {
-      for (size_t i = r.begin(); i < r.end(); ++i) {
-        s.m[i] = b1 * s.m[i] + (1 - b1) * grad[i];
-        s.v[i] = b2 * s.v[i] + (1 - b2) * grad[i] * grad[i];
-        p[i] -= step_size * s.m[i] / (std::sqrt(s.v[i]) * inv_bc2_sqrt + eps);
-      }
-    });
+    auto update = [&](size_t i) {
+      s.m[i] = b1 * s.m[i] + (1 - b1) * grad[i];
+      s.v[i] = b2 * s.v[i] + (1 - b2) * grad[i] * grad[i];
+      p[i] -= step_size * s.m[i] / (std::sqrt(s.v[i]) * inv_bc2_sqrt + eps);
+    };
+    // Values of each Gaussian that can move: all, or the active SH bands.
+    const size_t width = size_t(group_width(g));
+    const size_t active = g == ParamGroup::kShRest
+                              ? size_t(3 * ((active_sh_degree + 1) * (active_sh_degree + 1) - 1))
+                              : width;
+    if (active == width) {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, p.size(), 1 << 16), [&](const auto& r) {
+        for (size_t i = r.begin(); i < r.end(); ++i) update(i);
+      });
+    } else {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, size_, 4096), [&](const auto& r) {
+        for (size_t i = r.begin(); i < r.end(); ++i)
+          for (size_t k = 0; k < active; ++k) update(width * i + k);
+      });
+    }
   }
 }
 

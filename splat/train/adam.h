@@ -39,9 +39,11 @@ class GaussianAdam {
   // One Adam step of every group whose learning rate is given (> 0 or not
   // skipped); groups in `skip` keep their values and step count (as torch
   // skips parameters without a gradient).
+  // With active_sh_degree < 3, the SH coefficients above it are left alone:
+  // their gradients and moments are zero, so Adam would not move them anyway.
   void step(GaussianModel& model, const GaussianGradients& grads,
             const std::array<float, kParamGroups>& learning_rates,
-            const std::array<bool, kParamGroups>& skip = {});
+            const std::array<bool, kParamGroups>& skip = {}, int active_sh_degree = kMaxShDegree);
 
   // Densification: new Gaussians appended with zero moments; removal keeps
   // the Gaussians with keep[i] != 0 in order.

@@ -127,7 +127,7 @@ void Trainer::train_until(int until, const std::function<void(const IterationSta
     if (it < o.total_iterations) {
       const std::array<float, kParamGroups> lr = {st.lr_position, o.lr_sh_dc, o.lr_sh_rest, o.lr_opacity,
                                                   o.lr_scale, o.lr_rotation, o.lr_instance_opacity};
-      adam_.step(model_, grads_, lr, skip);
+      adam_.step(model_, grads_, lr, skip, sh_degree_);
     }
     st.gaussians = model_.size();
     if (on_iteration) on_iteration(st);
