@@ -18,6 +18,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <cmath>
 #include <random>
 
@@ -232,6 +233,36 @@ void BM_ForwardBackward(benchmark::State& state) {
 }
 
 // {Gaussians, resolution (1: 640x480, 2: 1280x960), scene (0: volume, 1: surface)}
+// Paired ratios against a colour render, alternating the two renders in one
+// loop so that the machine's drift cancels: the instance branch with M = 3
+// (target: at most 1.15) and all-object masks alone (target: at most 1.0).
+void BM_InstanceCostRatios(benchmark::State& state) {
+  const Case c = case_of(state);
+  const GaussianModel m = scene_of(c);
+  const Camera cam = bench_camera(c.width, c.height);
+  RenderSettings colour, instance, masks;
+  instance.instance_labels = {2, 5, 7};
+  masks.color = false;
+  masks.all_instance_labels = true;
+  RenderOutput out;
+  std::unique_ptr<RenderState> rs;
+  double t_colour = 0, t_instance = 0, t_masks = 0;
+  auto timed = [&](const RenderSettings& s) {
+    const auto t0 = std::chrono::steady_clock::now();
+    CpuRenderer().render(m, cam, s, out, &rs);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  for (auto _ : state) {
+    t_colour += timed(colour);
+    t_instance += timed(instance);
+    t_colour += timed(colour);
+    t_masks += timed(masks);
+  }
+  state.counters["instance_M3/colour"] = t_instance / (t_colour / 2);
+  state.counters["all_masks/colour"] = t_masks / (t_colour / 2);
+  report(state, out, c);
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
   for (int scene : {1, 0})
     for (auto [n, res] : {std::pair{100000, 1}, {200000, 1}, {1000000, 1}, {100000, 2}, {1000000, 2}})
@@ -243,6 +274,7 @@ BENCHMARK(BM_Forward)->Apply(sizes);
 BENCHMARK(BM_ForwardInstanceM3)->Apply(sizes);
 BENCHMARK(BM_AllObjectMasksOnly)->Apply(sizes);
 BENCHMARK(BM_LabelMapsOnly)->Apply(sizes);
+BENCHMARK(BM_InstanceCostRatios)->Apply(sizes);
 BENCHMARK(BM_Backward)->Apply(sizes);
 BENCHMARK(BM_ForwardBackward)->Apply(sizes);
 
