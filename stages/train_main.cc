@@ -30,6 +30,10 @@ int main(int argc, char** argv) {
   app.add_option("--ply-at", o.ply_at, "also write a PLY at these iterations");
   app.add_option("--test-at", o.test_at, "also evaluate the test views at these iterations");
   app.add_option("--densify-until", o.train.densify_until, "last densification iteration")->capture_default_str();
+  app.add_option("--max-screen-radius", o.train.densify.max_screen_radius,
+                 "prune Gaussians larger than this on screen (pixels) after the first opacity "
+                 "reset; 0 turns it off")
+      ->capture_default_str();
   app.add_option("--cache-mb", cache_mb, "decoded images kept in memory, MiB")->capture_default_str();
   app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
   return stages::run_stage(app, argc, argv, [&] {

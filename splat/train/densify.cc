@@ -155,7 +155,8 @@ DensifyResult densify_and_prune(GaussianModel& m, GaussianAdam& adam, Densificat
     if (remove[i]) continue;
     bool bad = sigmoid(m.opacity_logits[i]) < o.min_opacity;
     if (prune_large)
-      bad = bad || radius[i] > o.max_screen_radius || max_scale(m, i) > o.max_world_scale * extent;
+      bad = bad || (o.max_screen_radius > 0 && radius[i] > o.max_screen_radius) ||
+            max_scale(m, i) > o.max_world_scale * extent;
     remove[i] = bad;
     result.pruned += bad;
   }
