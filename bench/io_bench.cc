@@ -38,7 +38,8 @@ void BM_PlyWrite(benchmark::State& state) {
   const auto m = random_gaussians(size_t(state.range(0)));
   const fs::path file = bench_dir() / "w.ply";
   for (auto _ : state) splat::write_gaussian_ply(file, m);
-  state.counters["gaussians/s"] = benchmark::Counter(double(m.size()) * state.iterations(), benchmark::Counter::kIsRate);
+  state.counters["gaussians/s"] =
+      benchmark::Counter(double(m.size()) * state.iterations(), benchmark::Counter::kIsRate);
   state.counters["MB"] = fs::file_size(file) / 1e6;
   fs::remove_all(file.parent_path());
 }
@@ -49,7 +50,8 @@ void BM_PlyRead(benchmark::State& state) {
   const fs::path file = bench_dir() / "r.ply";
   splat::write_gaussian_ply(file, m);
   for (auto _ : state) benchmark::DoNotOptimize(splat::read_gaussian_ply(file));
-  state.counters["gaussians/s"] = benchmark::Counter(double(m.size()) * state.iterations(), benchmark::Counter::kIsRate);
+  state.counters["gaussians/s"] =
+      benchmark::Counter(double(m.size()) * state.iterations(), benchmark::Counter::kIsRate);
   fs::remove_all(file.parent_path());
 }
 BENCHMARK(BM_PlyRead)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond);
@@ -86,7 +88,8 @@ void BM_ColmapRead(benchmark::State& state) {
   const fs::path dir = bench_dir() / "model";
   splat::write_colmap_model(random_colmap(100000, 300), dir, format);
   for (auto _ : state) benchmark::DoNotOptimize(splat::read_colmap_model(dir, format));
-  state.SetLabel(state.range(0) ? "text, 100k points, 300 images" : "binary, 100k points, 300 images");
+  state.SetLabel(state.range(0) ? "text, 100k points, 300 images"
+                                : "binary, 100k points, 300 images");
   fs::remove_all(dir.parent_path());
 }
 BENCHMARK(BM_ColmapRead)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

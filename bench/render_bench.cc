@@ -29,8 +29,8 @@ namespace {
 using namespace splat;
 
 Camera bench_camera(int width, int height) {
-  return Camera::look_at({0, 0, 0}, {0, 0, 1}, Eigen::Vector3d::UnitY(), width, height,
-                         0.8 * width, 0.8 * width);
+  return Camera::look_at({0, 0, 0}, {0, 0, 1}, Eigen::Vector3d::UnitY(), width, height, 0.8 * width,
+                         0.8 * width);
 }
 
 GaussianModel bench_scene(size_t n, int width, int height) {
@@ -110,8 +110,10 @@ GaussianModel surface_scene(size_t n, int width, int height) {
     const Eigen::Vector4d q = quaternion_from_rotation(R);
     for (int k = 0; k < 3; ++k) m.means[3 * i + k] = float(pos[k]);
     for (int k = 0; k < 4; ++k) m.rotations[4 * i + k] = float(q[k]);
-    for (int k = 0; k < 2; ++k) m.log_scales[3 * i + k] = float(std::log(spacing(patch))) + 0.5f * g(rng);
-    m.log_scales[3 * i + 2] = std::min(m.log_scales[3 * i], m.log_scales[3 * i + 1]) - std::log(10.f);
+    for (int k = 0; k < 2; ++k)
+      m.log_scales[3 * i + k] = float(std::log(spacing(patch))) + 0.5f * g(rng);
+    m.log_scales[3 * i + 2] =
+        std::min(m.log_scales[3 * i], m.log_scales[3 * i + 1]) - std::log(10.f);
     m.opacity_logits[i] = 2.f + 1.5f * g(rng);
     m.instance_opacity_logits[i] = m.opacity_logits[i];
   }
@@ -135,7 +137,8 @@ void report(benchmark::State& state, const RenderOutput& out, const Case& c) {
   double blends = 0;
   for (uint32_t v : out.contributors) blends += v;
   state.counters["blends/px"] = blends / out.contributors.size();
-  state.counters["blends/s"] = benchmark::Counter(blends * state.iterations(), benchmark::Counter::kIsRate);
+  state.counters["blends/s"] =
+      benchmark::Counter(blends * state.iterations(), benchmark::Counter::kIsRate);
   state.SetLabel(std::string(c.surface ? "surface " : "volume ") + std::to_string(c.n / 1000) +
                  "k @ " + std::to_string(c.width) + "x" + std::to_string(c.height));
 }
@@ -265,7 +268,8 @@ void BM_InstanceCostRatios(benchmark::State& state) {
 
 void sizes(benchmark::internal::Benchmark* b) {
   for (int scene : {1, 0})
-    for (auto [n, res] : {std::pair{100000, 1}, {200000, 1}, {1000000, 1}, {100000, 2}, {1000000, 2}})
+    for (auto [n, res] :
+         {std::pair{100000, 1}, {200000, 1}, {1000000, 1}, {100000, 2}, {1000000, 2}})
       b->Args({n, res, scene});
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }

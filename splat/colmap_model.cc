@@ -15,11 +15,16 @@ namespace fs = std::filesystem;
 
 const std::vector<CameraModelInfo>& camera_models() {
   static const std::vector<CameraModelInfo> models = {
-      {0, "SIMPLE_PINHOLE", 3, false},      {1, "PINHOLE", 4, false},
-      {2, "SIMPLE_RADIAL", 4, true},        {3, "RADIAL", 5, true},
-      {4, "OPENCV", 8, true},               {5, "OPENCV_FISHEYE", 8, true},
-      {6, "FULL_OPENCV", 12, true},         {7, "FOV", 5, true},
-      {8, "SIMPLE_RADIAL_FISHEYE", 4, true}, {9, "RADIAL_FISHEYE", 5, true},
+      {0, "SIMPLE_PINHOLE", 3, false},
+      {1, "PINHOLE", 4, false},
+      {2, "SIMPLE_RADIAL", 4, true},
+      {3, "RADIAL", 5, true},
+      {4, "OPENCV", 8, true},
+      {5, "OPENCV_FISHEYE", 8, true},
+      {6, "FULL_OPENCV", 12, true},
+      {7, "FOV", 5, true},
+      {8, "SIMPLE_RADIAL_FISHEYE", 4, true},
+      {9, "RADIAL_FISHEYE", 5, true},
       {10, "THIN_PRISM_FISHEYE", 12, true},
   };
   return models;
@@ -102,12 +107,12 @@ class BinaryWriter {
 
 void check_camera(const ColmapCamera& cam, const fs::path& file) {
   const auto info = camera_model_by_id(cam.model_id);
-  if (!info) throw InputError(file, fmt::format("camera {} has unknown model id {}",
-                                                cam.camera_id, cam.model_id));
+  if (!info)
+    throw InputError(file,
+                     fmt::format("camera {} has unknown model id {}", cam.camera_id, cam.model_id));
   if (int(cam.params.size()) != info->num_params)
-    throw InputError(file, fmt::format("camera {} ({}) needs {} parameters, has {}",
-                                       cam.camera_id, info->name, info->num_params,
-                                       cam.params.size()));
+    throw InputError(file, fmt::format("camera {} ({}) needs {} parameters, has {}", cam.camera_id,
+                                       info->name, info->num_params, cam.params.size()));
 }
 
 std::map<uint32_t, ColmapCamera> read_cameras_bin(const fs::path& file) {
@@ -121,7 +126,8 @@ std::map<uint32_t, ColmapCamera> read_cameras_bin(const fs::path& file) {
     cam.width = in.read<uint64_t>();
     cam.height = in.read<uint64_t>();
     const auto info = camera_model_by_id(cam.model_id);
-    if (!info) in.fail(fmt::format("camera {} has unknown model id {}", cam.camera_id, cam.model_id));
+    if (!info)
+      in.fail(fmt::format("camera {} has unknown model id {}", cam.camera_id, cam.model_id));
     cam.params.resize(info->num_params);
     for (double& p : cam.params) p = in.read<double>();
     cameras[cam.camera_id] = std::move(cam);
@@ -386,8 +392,8 @@ void write_images_txt(const ColmapModel& m, const fs::path& file) {
                      im.image_id, im.qvec[0], im.qvec[1], im.qvec[2], im.qvec[3], im.tvec[0],
                      im.tvec[1], im.tvec[2], im.camera_id, im.name);
     for (size_t k = 0; k < im.points2d.size(); ++k)
-      s += fmt::format("{}{:.17g} {:.17g} {}", k ? " " : "", im.points2d[k].x(),
-                       im.points2d[k].y(), im.point3d_ids[k]);
+      s += fmt::format("{}{:.17g} {:.17g} {}", k ? " " : "", im.points2d[k].x(), im.points2d[k].y(),
+                       im.point3d_ids[k]);
     s += "\n";
   }
   write_text_atomically(file, s);
@@ -455,8 +461,8 @@ void write_colmap_model(const ColmapModel& model, const fs::path& dir, ColmapFor
 Camera pinhole_camera(const ColmapModel& model, const ColmapImage& image, const fs::path& source) {
   const auto it = model.cameras.find(image.camera_id);
   if (it == model.cameras.end())
-    throw InputError(source, fmt::format("image '{}' refers to missing camera {}", image.name,
-                                         image.camera_id));
+    throw InputError(
+        source, fmt::format("image '{}' refers to missing camera {}", image.name, image.camera_id));
   const ColmapCamera& cam = it->second;
   const auto info = camera_model_by_id(cam.model_id);
   if (!info || info->has_distortion)

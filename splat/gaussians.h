@@ -16,16 +16,16 @@
 namespace splat {
 
 inline constexpr int kMaxShDegree = 3;
-inline constexpr int kShRestCoeffs = 15;           // (3+1)^2 - 1
+inline constexpr int kShRestCoeffs = 15;                 // (3+1)^2 - 1
 inline constexpr int kShRestFloats = 3 * kShRestCoeffs;  // 45
 
 struct GaussianModel {
-  std::vector<float> means;         // 3 per Gaussian
-  std::vector<float> sh_dc;         // 3 per Gaussian
-  std::vector<float> sh_rest;       // 45 per Gaussian, [coefficient][channel]
+  std::vector<float> means;           // 3 per Gaussian
+  std::vector<float> sh_dc;           // 3 per Gaussian
+  std::vector<float> sh_rest;         // 45 per Gaussian, [coefficient][channel]
   std::vector<float> opacity_logits;  // 1 per Gaussian, sigma = sigmoid(logit)
-  std::vector<float> log_scales;    // 3 per Gaussian
-  std::vector<float> rotations;     // 4 per Gaussian, w x y z
+  std::vector<float> log_scales;      // 3 per Gaussian
+  std::vector<float> rotations;       // 4 per Gaussian, w x y z
   // OP2GS: the instance opacity sigma* (as a logit) and the object label.
   std::vector<float> instance_opacity_logits;  // 1 per Gaussian
   std::vector<int32_t> labels;                 // 1 per Gaussian, 0 = background

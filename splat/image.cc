@@ -1,8 +1,8 @@
 #include "splat/image.h"
 
+#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
-#include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <opencv2/imgproc.hpp>
 
@@ -98,8 +98,8 @@ IdMap read_id_map(const fs::path& file) {
   auto in = open_input(file);
   const auto& spec = in->spec();
   if (spec.nchannels != 1)
-    throw InputError(file, fmt::format("ID map must be single-channel, has {} channels",
-                                       spec.nchannels));
+    throw InputError(file,
+                     fmt::format("ID map must be single-channel, has {} channels", spec.nchannels));
   const auto base = OIIO::TypeDesc::BASETYPE(spec.format.basetype);
   IdMap map(spec.width, spec.height);
   // Read in the file's own integer type: converting 8 to 16 bit through

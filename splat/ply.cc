@@ -23,11 +23,11 @@ enum class PlyType { kInt8, kUInt8, kInt16, kUInt16, kInt32, kUInt32, kFloat32, 
 
 std::optional<PlyType> parse_type(const std::string& s) {
   static const std::map<std::string, PlyType> types = {
-      {"char", PlyType::kInt8},     {"int8", PlyType::kInt8},      {"uchar", PlyType::kUInt8},
-      {"uint8", PlyType::kUInt8},   {"short", PlyType::kInt16},    {"int16", PlyType::kInt16},
-      {"ushort", PlyType::kUInt16}, {"uint16", PlyType::kUInt16},  {"int", PlyType::kInt32},
-      {"int32", PlyType::kInt32},   {"uint", PlyType::kUInt32},    {"uint32", PlyType::kUInt32},
-      {"float", PlyType::kFloat32}, {"float32", PlyType::kFloat32}, {"double", PlyType::kFloat64},
+      {"char", PlyType::kInt8},      {"int8", PlyType::kInt8},       {"uchar", PlyType::kUInt8},
+      {"uint8", PlyType::kUInt8},    {"short", PlyType::kInt16},     {"int16", PlyType::kInt16},
+      {"ushort", PlyType::kUInt16},  {"uint16", PlyType::kUInt16},   {"int", PlyType::kInt32},
+      {"int32", PlyType::kInt32},    {"uint", PlyType::kUInt32},     {"uint32", PlyType::kUInt32},
+      {"float", PlyType::kFloat32},  {"float32", PlyType::kFloat32}, {"double", PlyType::kFloat64},
       {"float64", PlyType::kFloat64}};
   auto it = types.find(s);
   if (it == types.end()) return std::nullopt;
@@ -37,13 +37,17 @@ std::optional<PlyType> parse_type(const std::string& s) {
 size_t type_size(PlyType t) {
   switch (t) {
     case PlyType::kInt8:
-    case PlyType::kUInt8: return 1;
+    case PlyType::kUInt8:
+      return 1;
     case PlyType::kInt16:
-    case PlyType::kUInt16: return 2;
+    case PlyType::kUInt16:
+      return 2;
     case PlyType::kInt32:
     case PlyType::kUInt32:
-    case PlyType::kFloat32: return 4;
-    case PlyType::kFloat64: return 8;
+    case PlyType::kFloat32:
+      return 4;
+    case PlyType::kFloat64:
+      return 8;
   }
   return 0;
 }
@@ -54,14 +58,22 @@ double read_binary_value(const char* p, PlyType t) {
     return double(v);
   };
   switch (t) {
-    case PlyType::kInt8: return get(int8_t{});
-    case PlyType::kUInt8: return get(uint8_t{});
-    case PlyType::kInt16: return get(int16_t{});
-    case PlyType::kUInt16: return get(uint16_t{});
-    case PlyType::kInt32: return get(int32_t{});
-    case PlyType::kUInt32: return get(uint32_t{});
-    case PlyType::kFloat32: return get(float{});
-    case PlyType::kFloat64: return get(double{});
+    case PlyType::kInt8:
+      return get(int8_t{});
+    case PlyType::kUInt8:
+      return get(uint8_t{});
+    case PlyType::kInt16:
+      return get(int16_t{});
+    case PlyType::kUInt16:
+      return get(uint16_t{});
+    case PlyType::kInt32:
+      return get(int32_t{});
+    case PlyType::kUInt32:
+      return get(uint32_t{});
+    case PlyType::kFloat32:
+      return get(float{});
+    case PlyType::kFloat64:
+      return get(double{});
   }
   return 0;
 }
@@ -115,10 +127,14 @@ PlyHeader read_header(std::istream& in, const fs::path& file) {
     } else if (key == "format") {
       std::string fmt_name, version;
       ss >> fmt_name >> version;
-      if (fmt_name == "binary_little_endian") h.binary = true;
-      else if (fmt_name == "ascii") h.binary = false;
-      else if (fmt_name == "binary_big_endian") bad("big-endian PLY is not supported");
-      else bad("unknown format");
+      if (fmt_name == "binary_little_endian")
+        h.binary = true;
+      else if (fmt_name == "ascii")
+        h.binary = false;
+      else if (fmt_name == "binary_big_endian")
+        bad("big-endian PLY is not supported");
+      else
+        bad("unknown format");
       have_format = true;
     } else if (key == "element") {
       PlyElement e;
@@ -180,10 +196,11 @@ VertexLayout layout_of(const PlyElement& v, const fs::path& file) {
   l.opacity = need("opacity");
   int n_rest = 0;
   while (index.count(fmt::format("f_rest_{}", n_rest))) ++n_rest;
-  if (n_rest % 3 != 0 || n_rest > kShRestFloats || (n_rest != 0 && n_rest != 9 && n_rest != 24 &&
-                                                    n_rest != 45))
+  if (n_rest % 3 != 0 || n_rest > kShRestFloats ||
+      (n_rest != 0 && n_rest != 9 && n_rest != 24 && n_rest != 45))
     throw InputError(file, fmt::format("{} f_rest properties do not match an SH degree 0..3 "
-                                       "(0, 9, 24 or 45)", n_rest));
+                                       "(0, 9, 24 or 45)",
+                                       n_rest));
   for (int k = 0; k < n_rest; ++k) l.rest.push_back(index[fmt::format("f_rest_{}", k)]);
   l.rest_coeffs = n_rest / 3;
   if (index.count("instance_opacity")) l.instance_opacity = index["instance_opacity"];
@@ -210,7 +227,8 @@ void store_row(const std::vector<double>& row, const VertexLayout& l, size_t i, 
 void skip_binary_element(std::istream& in, const PlyElement& e, const fs::path& file) {
   if (e.has_list())
     throw InputError(file, fmt::format("element '{}' before 'vertex' has list properties "
-                                       "(unsupported)", e.name));
+                                       "(unsupported)",
+                                       e.name));
   in.seekg(std::streamoff(e.count * e.stride()), std::ios::cur);
   if (!in) throw InputError(file, fmt::format("truncated in element '{}'", e.name));
 }
@@ -251,16 +269,16 @@ void read_ascii_vertices(std::istream& in, const PlyElement& v, const VertexLayo
   std::string line;
   for (size_t i = 0; i < v.count; ++i) {
     if (!std::getline(in, line))
-      throw InputError(file, fmt::format("file is truncated: header says {} vertices, found {}",
-                                         v.count, i));
+      throw InputError(
+          file, fmt::format("file is truncated: header says {} vertices, found {}", v.count, i));
     const char* p = line.data();
     const char* end = line.data() + line.size();
     for (size_t k = 0; k < row.size(); ++k) {
       while (p < end && (*p == ' ' || *p == '\t')) ++p;
       const auto [next, ec] = std::from_chars(p, end, row[k]);
       if (ec != std::errc())
-        throw InputError(file, fmt::format("vertex {}: property '{}' is not a number", i,
-                                           v.properties[k].name));
+        throw InputError(
+            file, fmt::format("vertex {}: property '{}' is not a number", i, v.properties[k].name));
       p = next;
     }
     store_row(row, l, i, m);
@@ -275,9 +293,11 @@ GaussianModel read_gaussian_ply(const fs::path& file) {
   const PlyHeader h = read_header(in, file);
   for (const PlyElement& e : h.elements) {
     if (e.name != "vertex") {
-      if (h.binary) skip_binary_element(in, e, file);
+      if (h.binary)
+        skip_binary_element(in, e, file);
       else
-        for (uint64_t i = 0; i < e.count; ++i) in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+        for (uint64_t i = 0; i < e.count; ++i)
+          in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
       continue;
     }
     const VertexLayout l = layout_of(e, file);
@@ -296,8 +316,10 @@ GaussianModel read_gaussian_ply(const fs::path& file) {
     m.resize(e.count);
     m.has_instance_opacity = l.instance_opacity >= 0;
     m.has_labels = l.label >= 0;
-    if (h.binary) read_binary_vertices(in, e, l, m, file);
-    else read_ascii_vertices(in, e, l, m, file);
+    if (h.binary)
+      read_binary_vertices(in, e, l, m, file);
+    else
+      read_ascii_vertices(in, e, l, m, file);
     return m;
   }
   throw InputError(file, "PLY has no 'vertex' element");
@@ -308,8 +330,8 @@ void write_gaussian_ply(const fs::path& file, const GaussianModel& m) {
   std::string header = fmt::format("ply\nformat binary_little_endian 1.0\nelement vertex {}\n", n);
   std::vector<std::string> names = {"x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2"};
   for (int k = 0; k < kShRestFloats; ++k) names.push_back(fmt::format("f_rest_{}", k));
-  for (const char* s : {"opacity", "scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2",
-                        "rot_3"})
+  for (const char* s :
+       {"opacity", "scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3"})
     names.push_back(s);
   if (m.has_instance_opacity) names.push_back("instance_opacity");
   for (const auto& name : names) header += "property float " + name + "\n";

@@ -1,8 +1,8 @@
 #include "splat/scene.h"
 
+#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
-#include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -50,9 +50,9 @@ std::unique_ptr<Scene> Scene::load(const fs::path& root, const SceneOptions& opt
   if (model.images.empty()) throw InputError(sparse, "COLMAP model has no registered images");
 
   const fs::path full_dir = root / options.images_dir;
-  const fs::path scaled_dir =
-      root / fmt::format("{}_{}", options.images_dir, options.downscale);
-  const bool use_scaled = options.downscale > 1 && options.max_width == 0 && fs::is_directory(scaled_dir);
+  const fs::path scaled_dir = root / fmt::format("{}_{}", options.images_dir, options.downscale);
+  const bool use_scaled =
+      options.downscale > 1 && options.max_width == 0 && fs::is_directory(scaled_dir);
 
   for (const auto& [id, im] : model.images) {
     View v;
@@ -87,7 +87,8 @@ ImageRGB Scene::load_view(size_t i) const {
   ImageRGB image = read_image_rgb(v.file);
   // Files in images_N/ may differ from the computed size by a rounding pixel.
   const int slack = v.file_is_downscaled ? 1 : 0;
-  if (std::abs(image.width - v.file_width) > slack || std::abs(image.height - v.file_height) > slack)
+  if (std::abs(image.width - v.file_width) > slack ||
+      std::abs(image.height - v.file_height) > slack)
     throw InputError(v.file, fmt::format("image is {}x{} but its camera in the COLMAP model says "
                                          "{}x{}",
                                          image.width, image.height, v.file_width, v.file_height));

@@ -15,10 +15,10 @@
 namespace splat {
 
 struct SceneOptions {
-  std::string images_dir = "images";   // folder of full-resolution images
-  std::string sparse_dir = "sparse/0";  // COLMAP model, relative to the scene
-  int downscale = 1;                    // 1, 2, 4 or 8 (uses images_N/ if present)
-  int max_width = 0;                    // if > 0, scale down so width <= max_width
+  std::string images_dir = "images";     // folder of full-resolution images
+  std::string sparse_dir = "sparse/0";   // COLMAP model, relative to the scene
+  int downscale = 1;                     // 1, 2, 4 or 8 (uses images_N/ if present)
+  int max_width = 0;                     // if > 0, scale down so width <= max_width
   size_t cache_bytes = size_t(2) << 30;  // decoded views kept in memory
 
   // Throws std::invalid_argument with a one-line message for bad values.
@@ -26,9 +26,9 @@ struct SceneOptions {
 };
 
 struct View {
-  std::string name;              // image name as in the COLMAP model
-  Camera camera;                 // at the loaded resolution
-  std::filesystem::path file;    // decoded and area-resized to camera's size on load
+  std::string name;            // image name as in the COLMAP model
+  Camera camera;               // at the loaded resolution
+  std::filesystem::path file;  // decoded and area-resized to camera's size on load
   // The size the file must have: the camera's full size for images/, within a
   // pixel of the downscaled size for an images_N/ folder.
   int file_width = 0, file_height = 0;

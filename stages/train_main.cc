@@ -16,25 +16,35 @@ int main(int argc, char** argv) {
   std::vector<float> background;
   app.add_option("scene", scene, "scene folder (images/, sparse/0/)")->required();
   app.add_option("work", work, "work folder for checkpoints, PLY, renders, logs")->required();
-  app.add_option("--iterations", o.stop_at, "stop at this iteration (stage one: 20000)")->capture_default_str();
-  app.add_option("--schedule", o.train.total_iterations, "length of the learning-rate schedule")->capture_default_str();
+  app.add_option("--iterations", o.stop_at, "stop at this iteration (stage one: 20000)")
+      ->capture_default_str();
+  app.add_option("--schedule", o.train.total_iterations, "length of the learning-rate schedule")
+      ->capture_default_str();
   app.add_flag("--resume", o.resume, "continue from <work>/checkpoints/latest.ckpt");
-  app.add_option("--resolution", resolution, "downscale factor 1, 2, 4 or 8 (uses images_N/ if present)")->capture_default_str();
-  app.add_option("--max-width", o.train.scene.max_width, "scale images down to at most this width (0: off)");
-  app.add_option("--images", o.train.scene.images_dir, "image folder inside the scene")->capture_default_str();
-  app.add_option("--split", split, "train/test split: auto, lerf (images_train/), every8, all")->capture_default_str();
+  app.add_option("--resolution", resolution,
+                 "downscale factor 1, 2, 4 or 8 (uses images_N/ if present)")
+      ->capture_default_str();
+  app.add_option("--max-width", o.train.scene.max_width,
+                 "scale images down to at most this width (0: off)");
+  app.add_option("--images", o.train.scene.images_dir, "image folder inside the scene")
+      ->capture_default_str();
+  app.add_option("--split", split, "train/test split: auto, lerf (images_train/), every8, all")
+      ->capture_default_str();
   app.add_option("--seed", o.train.seed, "random seed")->capture_default_str();
   app.add_option("--sh-degree", o.train.sh_degree, "largest SH degree")->capture_default_str();
   app.add_option("--background", background, "background colour r g b in [0, 1]")->expected(3);
-  app.add_option("--checkpoint-every", o.checkpoint_every, "iterations between checkpoints")->capture_default_str();
+  app.add_option("--checkpoint-every", o.checkpoint_every, "iterations between checkpoints")
+      ->capture_default_str();
   app.add_option("--ply-at", o.ply_at, "also write a PLY at these iterations");
   app.add_option("--test-at", o.test_at, "also evaluate the test views at these iterations");
-  app.add_option("--densify-until", o.train.densify_until, "last densification iteration")->capture_default_str();
+  app.add_option("--densify-until", o.train.densify_until, "last densification iteration")
+      ->capture_default_str();
   app.add_option("--max-screen-radius", o.train.densify.max_screen_radius,
                  "prune Gaussians larger than this on screen (pixels) after the first opacity "
                  "reset; 0 turns it off")
       ->capture_default_str();
-  app.add_option("--cache-mb", cache_mb, "decoded images kept in memory, MiB")->capture_default_str();
+  app.add_option("--cache-mb", cache_mb, "decoded images kept in memory, MiB")
+      ->capture_default_str();
   app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
   return stages::run_stage(app, argc, argv, [&] {
     std::optional<tbb::global_control> limit;
@@ -43,12 +53,17 @@ int main(int argc, char** argv) {
     o.train.scene.cache_bytes = size_t(cache_mb * (1 << 20));
     if (!background.empty()) std::copy_n(background.begin(), 3, o.train.background);
     const std::map<std::string, splat::SplitRule> rules = {{"auto", splat::SplitRule::kAuto},
-        {"lerf", splat::SplitRule::kLerfMask}, {"every8", splat::SplitRule::kEvery8}, {"all", splat::SplitRule::kAll}};
-    if (!rules.count(split)) throw std::invalid_argument("--split must be auto, lerf, every8 or all");
+                                                           {"lerf", splat::SplitRule::kLerfMask},
+                                                           {"every8", splat::SplitRule::kEvery8},
+                                                           {"all", splat::SplitRule::kAll}};
+    if (!rules.count(split))
+      throw std::invalid_argument("--split must be auto, lerf, every8 or all");
     o.train.split = rules.at(split);
     const splat::TrainRunResult r = splat::run_training(scene, work, o);
     spdlog::info("iteration {}: {} Gaussians, {:.1f} s", r.iteration, r.gaussians, r.seconds);
-    if (r.test_views) spdlog::info("test views ({}): PSNR {:.2f} dB, SSIM {:.4f}", r.test_views, r.test_psnr, r.test_ssim);
+    if (r.test_views)
+      spdlog::info("test views ({}): PSNR {:.2f} dB, SSIM {:.4f}", r.test_views, r.test_psnr,
+                   r.test_ssim);
     spdlog::info("outputs in {}", work);
   });
 }

@@ -2,11 +2,11 @@
 // Helpers shared by the tests: a fresh temporary folder per test.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 namespace testing_util {
 

@@ -45,8 +45,10 @@ std::vector<splat::Camera> orbit_cameras(const SynthOptions& o, const SceneLayou
     const double angle = 2 * M_PI * (i + 0.3 * u(rng)) / o.views;
     const double r = o.orbit_radius * (1 + o.radius_jitter * u(rng));
     const double h = o.orbit_height + o.height_jitter * u(rng);
-    const Eigen::Vector3d eye = layout.look_at + Eigen::Vector3d(r * std::cos(angle), 0, r * std::sin(angle));
-    const Eigen::Vector3d target = layout.look_at + 0.1 * Eigen::Vector3d(u(rng), 0.5 * u(rng), u(rng));
+    const Eigen::Vector3d eye =
+        layout.look_at + Eigen::Vector3d(r * std::cos(angle), 0, r * std::sin(angle));
+    const Eigen::Vector3d target =
+        layout.look_at + 0.1 * Eigen::Vector3d(u(rng), 0.5 * u(rng), u(rng));
     cams.push_back(splat::Camera::look_at(Eigen::Vector3d(eye.x(), h, eye.z()), target,
                                           Eigen::Vector3d::UnitY(), o.width, o.height, fx, fx));
   }
@@ -65,8 +67,8 @@ void render_view(const RayTracer& tracer, const splat::Camera& cam, int supersam
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       for (int sy = 0; sy < supersample; ++sy)
         for (int sx = 0; sx < supersample; ++sx)
-          sum += tracer.trace(origin, cam.pixel_ray(x + (sx + 0.5) / supersample,
-                                                   y + (sy + 0.5) / supersample));
+          sum += tracer.trace(
+              origin, cam.pixel_ray(x + (sx + 0.5) / supersample, y + (sy + 0.5) / supersample));
       sum /= double(supersample * supersample);
       float* px = image.pixel(x, y);
       for (int c = 0; c < 3; ++c) px[c] = float(sum[c]);
@@ -115,8 +117,8 @@ splat::ColmapModel sample_sparse_model(const RayTracer& tracer,
 
   splat::ColmapModel model;
   const splat::Camera& c0 = cameras.front();
-  model.cameras[1] = splat::ColmapCamera{1, 1, uint64_t(c0.width), uint64_t(c0.height),
-                                         {c0.fx, c0.fy, c0.cx, c0.cy}};
+  model.cameras[1] = splat::ColmapCamera{
+      1, 1, uint64_t(c0.width), uint64_t(c0.height), {c0.fx, c0.fy, c0.cx, c0.cy}};
   for (size_t v = 0; v < cameras.size(); ++v) {
     splat::ColmapImage im;
     im.image_id = uint32_t(v + 1);
@@ -132,7 +134,8 @@ splat::ColmapModel sample_sparse_model(const RayTracer& tracer,
     splat::ColmapPoint3D p;
     p.point3d_id = next_id++;
     p.xyz = s.xyz;
-    for (int k = 0; k < 3; ++k) p.rgb[k] = uint8_t(std::lround(255 * std::clamp(s.color[k], 0.0, 1.0)));
+    for (int k = 0; k < 3; ++k)
+      p.rgb[k] = uint8_t(std::lround(255 * std::clamp(s.color[k], 0.0, 1.0)));
     for (const auto& [v, px] : s.observations) {
       splat::ColmapImage& im = model.images[uint32_t(v + 1)];
       p.track.push_back({im.image_id, uint32_t(im.points2d.size())});
@@ -177,8 +180,11 @@ std::vector<uint8_t> object_mask(const splat::IdMap& m, int id) {
 json object_table(const SceneLayout& layout) {
   json objects = json::array();
   for (const SceneObject& o : layout.objects)
-    objects.push_back({{"id", o.id}, {"name", o.name}, {"shape", shape_name(o.shape)},
-                       {"opacity", o.material.opacity}, {"hard_case", o.hard_case}});
+    objects.push_back({{"id", o.id},
+                       {"name", o.name},
+                       {"shape", shape_name(o.shape)},
+                       {"opacity", o.material.opacity},
+                       {"hard_case", o.hard_case}});
   return objects;
 }
 
@@ -203,8 +209,9 @@ void write_poses_bounds(const fs::path& file, const RenderedScene& r, const Scen
   write_npy_f64(file, rows, {r.cameras.size(), 17});
 }
 
-void write_ovs_layout(const fs::path& dir, const RenderedScene& r, const std::vector<splat::IdMap>& sam2,
-                      const SceneLayout& layout, int test_views) {
+void write_ovs_layout(const fs::path& dir, const RenderedScene& r,
+                      const std::vector<splat::IdMap>& sam2, const SceneLayout& layout,
+                      int test_views) {
   const int n = int(r.images.size());
   const int digits = std::max(2, int(std::to_string(n - 1).size()));
   auto ovs_name = [&](int i) { return fmt::format("{:0{}d}", i, digits); };
@@ -231,7 +238,8 @@ void write_layout(const fs::path& dir, const SynthOptions& o, const SceneLayout&
   const int n = int(r.images.size());
   tbb::parallel_for(0, n, [&](int i) {
     splat::write_image_rgb(dir / "images" / r.names[i], r.images[i]);
-    if (i % o.test_every != 0) splat::write_image_rgb(dir / "images_train" / r.names[i], r.images[i]);
+    if (i % o.test_every != 0)
+      splat::write_image_rgb(dir / "images_train" / r.names[i], r.images[i]);
     splat::write_id_map(dir / "instance_gt" / (stem(r.names[i]) + ".png"), r.instance_maps[i], 8);
     splat::write_id_map(dir / "sam2" / (stem(r.names[i]) + ".png"), sam2[i], 8);
   });
@@ -255,10 +263,12 @@ void write_layout(const fs::path& dir, const SynthOptions& o, const SceneLayout&
   const json objects = object_table(layout);
   splat::write_text_atomically(dir / "objects.json", objects.dump(2) + "\n");
   json sam2_names = json::array();
-  for (const SceneObject& obj : layout.objects) sam2_names.push_back({{"id", obj.id}, {"name", obj.name}});
+  for (const SceneObject& obj : layout.objects)
+    sam2_names.push_back({{"id", obj.id}, {"name", obj.name}});
   splat::write_text_atomically(dir / "sam2" / "objects.json", sam2_names.dump(2) + "\n");
 
-  if (o.write_sparse) splat::write_colmap_model(r.sparse, dir / "sparse" / "0", splat::ColmapFormat::kText);
+  if (o.write_sparse)
+    splat::write_colmap_model(r.sparse, dir / "sparse" / "0", splat::ColmapFormat::kText);
 
   json meta = {{"generator", "op2gs-synth"},
                {"seed", o.seed},
@@ -328,7 +338,8 @@ void generate_scene(const SynthOptions& o, const fs::path& out_dir, bool force) 
 
   if (!o.ovs_dir.empty()) {
     const fs::path ovs = fs::absolute(o.ovs_dir).lexically_normal();
-    const fs::path ovs_tmp = ovs.parent_path() / fmt::format(".{}.partial-{}", ovs.filename().string(), ::getpid());
+    const fs::path ovs_tmp =
+        ovs.parent_path() / fmt::format(".{}.partial-{}", ovs.filename().string(), ::getpid());
     fs::remove_all(ovs_tmp);
     spdlog::info("writing the 3DOVS layout to {}", o.ovs_dir.string());
     write_ovs_layout(ovs_tmp, r, sam2, layout, o.ovs_test_views);

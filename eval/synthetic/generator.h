@@ -33,15 +33,15 @@ struct SynthOptions {
   int width = 320;
   int height = 240;
   uint64_t seed = 1;
-  int supersample = 3;         // samples per pixel along each axis (anti-aliasing)
-  int test_every = 8;          // view i is a test view when i % test_every == 0
+  int supersample = 3;  // samples per pixel along each axis (anti-aliasing)
+  int test_every = 8;   // view i is a test view when i % test_every == 0
   double fov_x_degrees = 55.0;
-  double orbit_radius = 3.2;   // camera distance from the look-at point
-  double radius_jitter = 0.08;  // relative
-  double orbit_height = 1.5;   // camera height above the ground
-  double height_jitter = 0.35;  // absolute
-  int num_points = 6000;       // sparse points sampled on the surfaces
-  bool write_sparse = true;    // false: no sparse/ (for testing SfM from scratch)
+  double orbit_radius = 3.2;      // camera distance from the look-at point
+  double radius_jitter = 0.08;    // relative
+  double orbit_height = 1.5;      // camera height above the ground
+  double height_jitter = 0.35;    // absolute
+  int num_points = 6000;          // sparse points sampled on the surfaces
+  bool write_sparse = true;       // false: no sparse/ (for testing SfM from scratch)
   std::filesystem::path ovs_dir;  // if set: also write the 3DOVS layout here
   int ovs_test_views = 5;
   Sam2CorruptionOptions sam2;

@@ -54,12 +54,14 @@ double fbm(const V& p, int octaves = 4) {
 
 double pattern_value(Pattern pattern, const V& p) {
   switch (pattern) {
-    case Pattern::kMottled: return smooth(std::clamp(1.6 * fbm(p) - 0.3, 0.0, 1.0));
+    case Pattern::kMottled:
+      return smooth(std::clamp(1.6 * fbm(p) - 0.3, 0.0, 1.0));
     case Pattern::kStripes: {
       const double s = std::sin(6.2832 * (p.y() + 0.6 * fbm(0.5 * p)));
       return s > 0 ? 1.0 : 0.0;
     }
-    case Pattern::kSpots: return value_noise(1.3 * p) > 0.62 ? 1.0 : 0.0;
+    case Pattern::kSpots:
+      return value_noise(1.3 * p) > 0.62 ? 1.0 : 0.0;
     case Pattern::kChecker: {
       const int c = int(std::floor(p.x()) + std::floor(p.y()) + std::floor(p.z()));
       return (c & 1) ? 0.85 * fbm(2.0 * p) + 0.15 : 0.3 * fbm(3.0 * p);
@@ -74,12 +76,18 @@ V hsv(double h, double s, double v) {
   const double f = h - std::floor(h);
   const double p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
   switch (i) {
-    case 0: return {v, t, p};
-    case 1: return {q, v, p};
-    case 2: return {p, v, t};
-    case 3: return {p, q, v};
-    case 4: return {t, p, v};
-    default: return {v, p, q};
+    case 0:
+      return {v, t, p};
+    case 1:
+      return {q, v, p};
+    case 2:
+      return {p, v, t};
+    case 3:
+      return {p, q, v};
+    case 4:
+      return {t, p, v};
+    default:
+      return {v, p, q};
   }
 }
 
@@ -205,10 +213,18 @@ std::optional<std::pair<double, V>> RayTracer::intersect_object(const SceneObjec
   const V lo = f.world_to_local * oc, ld = f.world_to_local * dir;
   LocalHit h;
   switch (o.shape) {
-    case Shape::kSphere: h = hit_sphere(lo, ld); break;
-    case Shape::kBox: h = hit_box(lo, ld); break;
-    case Shape::kCylinder: h = hit_cylinder(lo, ld); break;
-    case Shape::kCone: h = hit_cone(lo, ld); break;
+    case Shape::kSphere:
+      h = hit_sphere(lo, ld);
+      break;
+    case Shape::kBox:
+      h = hit_box(lo, ld);
+      break;
+    case Shape::kCylinder:
+      h = hit_cylinder(lo, ld);
+      break;
+    case Shape::kCone:
+      h = hit_cone(lo, ld);
+      break;
   }
   if (!h) return {};
   // Normals transform with the inverse transpose: R S^-1 for M = R S.
@@ -253,7 +269,9 @@ V RayTracer::albedo(const Hit& hit) const {
   const V p = hit.point + layout_.texture_offset;
   if (hit.object >= 0) {
     const Material& m = layout_.objects[hit.object].material;
-    const double v = pattern_value(m.pattern, m.frequency * (hit.point - layout_.objects[hit.object].position) + layout_.texture_offset);
+    const double v =
+        pattern_value(m.pattern, m.frequency * (hit.point - layout_.objects[hit.object].position) +
+                                     layout_.texture_offset);
     const double grain = 0.8 + 0.4 * fbm(3.1 * m.frequency * p, 2);
     return (m.base * (1 - v) + m.accent * v) * grain;
   }
@@ -264,8 +282,7 @@ V RayTracer::albedo(const Hit& hit) const {
     V c = hsv(hue, 0.35 + 0.3 * fbm(1.7 * p), 0.35 + 0.55 * tile) * (0.75 + 0.5 * fbm(9.0 * p, 3));
     // A dark mat under the dark object, still faintly textured.
     const double r = (xz - layout_.dark_region_center).norm();
-    if (r < layout_.dark_region_radius)
-      c = V::Constant(0.04) + 0.10 * fbm(6.0 * p) * V::Ones();
+    if (r < layout_.dark_region_radius) c = V::Constant(0.04) + 0.10 * fbm(6.0 * p) * V::Ones();
     return c;
   }
   // Dome: colourful blotches with fine detail; one dark sector behind the
@@ -295,7 +312,8 @@ V RayTracer::surface_color(const Hit& hit) const {
   double light = layout_.ambient;
   if (hit.object != Hit::kEnclosure) {
     const double lambert = std::max(0.0, hit.normal.dot(light_));
-    if (lambert > 0) light += (1 - layout_.ambient) * lambert * light_visibility(hit.point + 1e-5 * hit.normal);
+    if (lambert > 0)
+      light += (1 - layout_.ambient) * lambert * light_visibility(hit.point + 1e-5 * hit.normal);
   } else {
     light = 1.0;  // the dome is self-lit
   }

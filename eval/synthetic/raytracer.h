@@ -53,9 +53,9 @@ class RayTracer {
   SceneLayout layout_;
   Eigen::Vector3d light_;
   struct Frame {
-    Eigen::Matrix3d world_to_local;  // S^-1 R^T
+    Eigen::Matrix3d world_to_local;   // S^-1 R^T
     Eigen::Matrix3d normal_to_world;  // R S^-1
-    double bound_radius;             // bounding sphere for early rejection
+    double bound_radius;              // bounding sphere for early rejection
   };
   std::vector<Frame> frames_;
 };

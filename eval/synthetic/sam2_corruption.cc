@@ -29,7 +29,8 @@ void jitter_boundaries(splat::IdMap& map, double amplitude, Rng& rng) {
   std::uniform_real_distribution<float> u(-float(amplitude), float(amplitude));
   cv::Mat coarse_x(gh, gw, CV_32F), coarse_y(gh, gw, CV_32F);
   for (int y = 0; y < gh; ++y)
-    for (int x = 0; x < gw; ++x) coarse_x.at<float>(y, x) = u(rng), coarse_y.at<float>(y, x) = u(rng);
+    for (int x = 0; x < gw; ++x)
+      coarse_x.at<float>(y, x) = u(rng), coarse_y.at<float>(y, x) = u(rng);
   cv::Mat dx, dy;
   cv::resize(coarse_x, dx, cv::Size(map.width, map.height), 0, 0, cv::INTER_CUBIC);
   cv::resize(coarse_y, dy, cv::Size(map.width, map.height), 0, 0, cv::INTER_CUBIC);
@@ -41,7 +42,7 @@ void jitter_boundaries(splat::IdMap& map, double amplitude, Rng& rng) {
 }
 
 struct ObjectPixels {
-  std::vector<int> pixels;   // indices into the map
+  std::vector<int> pixels;              // indices into the map
   std::vector<int> boundary_to_object;  // pixels next to another object
   std::vector<int> boundary_to_background;
 };
@@ -70,8 +71,7 @@ std::map<int, ObjectPixels> collect(const splat::IdMap& m) {
 
 // Paints `id` into a disc, either only over pixels that hold `only_over`
 // (when >= 0) or only over pixels that do not hold `except` (when >= 0).
-void paint_disc(splat::IdMap& m, int cx, int cy, double radius, int id, int only_over,
-                int except) {
+void paint_disc(splat::IdMap& m, int cx, int cy, double radius, int id, int only_over, int except) {
   const int r = int(std::ceil(radius));
   for (int y = std::max(0, cy - r); y <= std::min(m.height - 1, cy + r); ++y) {
     for (int x = std::max(0, cx - r); x <= std::min(m.width - 1, cx + r); ++x) {
@@ -105,13 +105,16 @@ splat::IdMap corrupt_like_sam2(const splat::IdMap& truth, const std::vector<int>
     const double radius = std::sqrt(px.pixels.size() / M_PI);
     if (u01(rng) < std::min(1.0, s * o.miss_probability)) {
       const int c = pick(px.pixels, rng);
-      paint_disc(map, c % map.width, c / map.width, std::max(1.5, o.miss_radius * radius * (0.6 + 0.8 * u01(rng))), 0, id, -1);
+      paint_disc(map, c % map.width, c / map.width,
+                 std::max(1.5, o.miss_radius * radius * (0.6 + 0.8 * u01(rng))), 0, id, -1);
     }
     if (u01(rng) < std::min(1.0, s * o.leak_probability)) {
-      const auto& edge = px.boundary_to_object.empty() ? px.boundary_to_background : px.boundary_to_object;
+      const auto& edge =
+          px.boundary_to_object.empty() ? px.boundary_to_background : px.boundary_to_object;
       if (!edge.empty()) {
         const int c = pick(edge, rng);
-        paint_disc(map, c % map.width, c / map.width, std::max(2.0, o.leak_radius * radius * (0.6 + 0.8 * u01(rng))), id, -1, id);
+        paint_disc(map, c % map.width, c / map.width,
+                   std::max(2.0, o.leak_radius * radius * (0.6 + 0.8 * u01(rng))), id, -1, id);
       }
     }
   }
@@ -121,7 +124,8 @@ splat::IdMap corrupt_like_sam2(const splat::IdMap& truth, const std::vector<int>
     for (int b = 0; b < blobs; ++b) {
       const int x = std::uniform_int_distribution<int>(0, map.width - 1)(rng);
       const int y = std::uniform_int_distribution<int>(0, map.height - 1)(rng);
-      paint_disc(map, x, y, std::max(1.5, o.spurious_radius * diag * (0.5 + u01(rng))), pick(object_ids, rng), -1, -1);
+      paint_disc(map, x, y, std::max(1.5, o.spurious_radius * diag * (0.5 + u01(rng))),
+                 pick(object_ids, rng), -1, -1);
     }
   }
   jitter_boundaries(map, s * o.boundary_jitter_px, rng);

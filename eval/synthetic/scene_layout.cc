@@ -7,10 +7,14 @@ namespace synth {
 
 const char* shape_name(Shape s) {
   switch (s) {
-    case Shape::kSphere: return "sphere";
-    case Shape::kBox: return "box";
-    case Shape::kCylinder: return "cylinder";
-    case Shape::kCone: return "cone";
+    case Shape::kSphere:
+      return "sphere";
+    case Shape::kBox:
+      return "box";
+    case Shape::kCylinder:
+      return "cylinder";
+    case Shape::kCone:
+      return "cone";
   }
   return "?";
 }

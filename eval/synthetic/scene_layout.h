@@ -49,7 +49,7 @@ struct SceneLayout {
   // A dark region (on the ground and the dome behind it) around the dark object.
   Eigen::Vector2d dark_region_center{0, 0};  // x, z
   double dark_region_radius = 0;
-  double dark_azimuth = 0, dark_azimuth_halfwidth = 0;  // dome sector, radians
+  double dark_azimuth = 0, dark_azimuth_halfwidth = 0;       // dome sector, radians
   Eigen::Vector3d texture_offset = Eigen::Vector3d::Zero();  // varies the textures by seed
 };
 

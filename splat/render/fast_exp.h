@@ -15,8 +15,8 @@ inline float fast_exp(float x) {
   // (exact in float arithmetic, which the build never relaxes with
   // -ffast-math); unlike roundevenf, this vectorises.
   const float n = (x * 1.44269504088896341f + 12582912.f) - 12582912.f;
-  float r = x - n * 0.693145751953125f;                         // ln 2, high part
-  r = r - n * 1.428606765330187045e-06f;                        // ln 2, low part
+  float r = x - n * 0.693145751953125f;   // ln 2, high part
+  r = r - n * 1.428606765330187045e-06f;  // ln 2, low part
   float p = 1.0f / 720.0f;
   p = p * r + 1.0f / 120.0f;
   p = p * r + 1.0f / 24.0f;

@@ -13,7 +13,8 @@ struct LaneOffsets {
   alignas(64) float x[kBlockLanes];
   alignas(64) float y[kBlockLanes];
   constexpr LaneOffsets() : x(), y() {
-    for (int l = 0; l < kBlockLanes; ++l) x[l] = float(l % kBlockSize), y[l] = float(l / kBlockSize);
+    for (int l = 0; l < kBlockLanes; ++l)
+      x[l] = float(l % kBlockSize), y[l] = float(l / kBlockSize);
   }
 };
 inline constexpr LaneOffsets kLaneOffsets{};

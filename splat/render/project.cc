@@ -55,9 +55,9 @@ float sigmoid(float x) { return 1.f / (1.f + std::exp(-x)); }
 // Rotation matrix of the normalised quaternion w x y z.
 Mat3 quaternion_matrix(float w, float x, float y, float z) {
   Mat3 R;
-  R << 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
-      2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
-      2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y);
+  R << 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y), 2 * (x * y + w * z),
+      1 - 2 * (x * x + z * z), 2 * (y * z - w * x), 2 * (x * z - w * y), 2 * (y * z + w * x),
+      1 - 2 * (x * x + y * y);
   return R;
 }
 
@@ -163,8 +163,7 @@ bool project_one(const GaussianModel& m, const View& v, const Camera& cam, size_
   int32_t* r = &p.tile_rect[4 * i];
   r[0] = x0, r[1] = y0, r[2] = x1, r[3] = y1;
   p.opacity[i] = sigma;
-  p.instance_opacity[i] =
-      m.has_instance_opacity ? sigmoid(m.instance_opacity_logits[i]) : sigma;
+  p.instance_opacity[i] = m.has_instance_opacity ? sigmoid(m.instance_opacity_logits[i]) : sigma;
   (void)cam;
   return true;
 }
@@ -205,7 +204,8 @@ namespace {
 Eigen::Vector4f quaternion_matrix_backward(const Eigen::Vector4f& q, const Mat3& gR) {
   const float w = q[0], x = q[1], y = q[2], z = q[3];
   Eigen::Vector4f g;
-  g[0] = 2 * (-z * gR(0, 1) + y * gR(0, 2) + z * gR(1, 0) - x * gR(1, 2) - y * gR(2, 0) + x * gR(2, 1));
+  g[0] = 2 *
+         (-z * gR(0, 1) + y * gR(0, 2) + z * gR(1, 0) - x * gR(1, 2) - y * gR(2, 0) + x * gR(2, 1));
   g[1] = 2 * (y * gR(0, 1) + z * gR(0, 2) + y * gR(1, 0) - 2 * x * gR(1, 1) - w * gR(1, 2) +
               z * gR(2, 0) + w * gR(2, 1) - 2 * x * gR(2, 2));
   g[2] = 2 * (-2 * y * gR(0, 0) + x * gR(0, 1) + w * gR(0, 2) + x * gR(1, 0) + z * gR(1, 2) -
@@ -233,7 +233,8 @@ void backward_one(const GaussianModel& m, const View& v, const RenderSettings& s
   const float A = p.conic[3 * i], B = p.conic[3 * i + 1], C = p.conic[3 * i + 2];
   Eigen::Matrix2f Q, gQ;
   Q << A, B, B, C;
-  gQ << pg.conic[3 * i], 0.5f * pg.conic[3 * i + 1], 0.5f * pg.conic[3 * i + 1], pg.conic[3 * i + 2];
+  gQ << pg.conic[3 * i], 0.5f * pg.conic[3 * i + 1], 0.5f * pg.conic[3 * i + 1],
+      pg.conic[3 * i + 2];
   const Eigen::Matrix2f gCov = -Q * gQ * Q;  // symmetric
 
   // 2D covariance = T Sigma T^T with T = J W.
@@ -268,8 +269,7 @@ void backward_one(const GaussianModel& m, const View& v, const RenderSettings& s
                    std::exp(m.log_scales[3 * i + 2]));
   const Mat3 M = Rq * s_vec.asDiagonal();
   const Mat3 gM = (gSigma + gSigma.transpose()) * M;
-  for (int k = 0; k < 3; ++k)
-    g.log_scales[3 * i + k] = gM.col(k).dot(Rq.col(k)) * s_vec[k];
+  for (int k = 0; k < 3; ++k) g.log_scales[3 * i + k] = gM.col(k).dot(Rq.col(k)) * s_vec[k];
   const Mat3 gR = gM * s_vec.asDiagonal();
   const Eigen::Map<const Eigen::Vector4f> q(&m.rotations[4 * i]);
   const float qlen = q.norm();
@@ -308,9 +308,9 @@ void backward_one(const GaussianModel& m, const View& v, const RenderSettings& s
 
 }  // namespace
 
-void project_gaussians_backward(const GaussianModel& m, const Camera& cam,
-                                const RenderSettings& s, const ProjectedGaussians& p,
-                                const ProjectedGradients& pg, GaussianGradients& g) {
+void project_gaussians_backward(const GaussianModel& m, const Camera& cam, const RenderSettings& s,
+                                const ProjectedGaussians& p, const ProjectedGradients& pg,
+                                GaussianGradients& g) {
   const size_t n = m.size();
   g.resize(n);
   const View v(cam);

@@ -23,9 +23,9 @@ struct ProjectedGaussians {
   std::vector<int32_t> tile_rect;  // 4N
   // Half-extents (pixels) of the ellipse outside which sigma G < 1/255, with
   // a small margin: no pixel outside it is touched.
-  std::vector<float> reach;        // 2N
-  std::vector<float> color;        // 3N, empty when settings.color is false
-  std::vector<uint8_t> color_clamped;  // 3N, 1 where the colour was clamped at 0
+  std::vector<float> reach;             // 2N
+  std::vector<float> color;             // 3N, empty when settings.color is false
+  std::vector<uint8_t> color_clamped;   // 3N, 1 where the colour was clamped at 0
   std::vector<float> opacity;           // N, sigma
   std::vector<float> instance_opacity;  // N, sigma* (sigma when the model has none)
   int tiles_x = 0, tiles_y = 0;

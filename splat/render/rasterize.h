@@ -27,14 +27,14 @@ inline constexpr int kRasterEntryGradients = 11;
 // What the rasterizer reads of one Gaussian, packed into one cache line so
 // that gathering a tile's Gaussians costs one load each.
 struct alignas(64) SplatRecord {
-  float mx, my;          // 2D mean
-  float A, B, C;         // conic
+  float mx, my;   // 2D mean
+  float A, B, C;  // conic
   float opacity, instance_opacity;
   float depth;
-  float r, g, b;         // colour (0 when not rendering colour)
+  float r, g, b;  // colour (0 when not rendering colour)
   float reach_x, reach_y;
   int32_t label;
-  int32_t plane;         // instance map plane of the label, -1 if none
+  int32_t plane;  // instance map plane of the label, -1 if none
   // Pixels with (d^T conic d) above this have alpha < 1/255: 2 ln(255 sigma),
   // with a small margin.
   float reach_level;

@@ -15,8 +15,20 @@ constexpr int kLanes = kBlockLanes;
 constexpr int kBlocks = kBlocksPerTile;  // state arrays are [block][lane]
 
 // Gradient of one entry (Gaussian in one tile), summed over its pixels.
-enum EntryGrad { kMeanX, kMeanY, kConicA, kConicB, kConicC, kRed, kGreen, kBlue, kDepth,
-                 kOpacity, kInstanceOpacity, kEntryGrads };
+enum EntryGrad {
+  kMeanX,
+  kMeanY,
+  kConicA,
+  kConicB,
+  kConicC,
+  kRed,
+  kGreen,
+  kBlue,
+  kDepth,
+  kOpacity,
+  kInstanceOpacity,
+  kEntryGrads
+};
 static_assert(kEntryGrads == kRasterEntryGradients);
 
 // Per-pixel state of one tile, going back to front: [block][lane].
@@ -29,9 +41,9 @@ struct TileBackState {
   alignas(64) float g_depth[kBlocks][kLanes];
   alignas(64) float behind[3][kBlocks][kLanes];  // sum of w_k c_k over Gaussians behind
   alignas(64) float behind_depth[kBlocks][kLanes];
-  alignas(64) float bg_dot[3][kBlocks][kLanes];  // T_final * background
-  int32_t block_last[kBlocks];                     // largest `last` of each block
-  std::vector<float> g_planes;                 // dL/dS: [plane][block][lane]
+  alignas(64) float bg_dot[3][kBlocks][kLanes];   // T_final * background
+  int32_t block_last[kBlocks];                    // largest `last` of each block
+  std::vector<float> g_planes;                    // dL/dS: [plane][block][lane]
   alignas(64) float zeros[kBlocks][kLanes] = {};  // dL/dS of labels without a map
 };
 
@@ -67,8 +79,9 @@ inline void back_block(const TileGaussians& tg, size_t k, float px0, float py0, 
     s.behind_depth[block][l] += w * z;
     if constexpr (kColor) {
       for (int ch = 0; ch < 3; ++ch) {
-        g_alpha += s.g_color[ch][block][l] *
-                   (c[ch] * T_i - (s.behind[ch][block][l] + s.bg_dot[ch][block][l]) * inv_one_minus);
+        g_alpha +=
+            s.g_color[ch][block][l] *
+            (c[ch] * T_i - (s.behind[ch][block][l] + s.bg_dot[ch][block][l]) * inv_one_minus);
         acc[kRed + ch][l] += s.g_color[ch][block][l] * w;
         s.behind[ch][block][l] += w * c[ch];
       }
@@ -106,7 +119,9 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0
     std::fill_n(&entry_grads[size_t(entries[k]) * kEntryGrads], kEntryGrads, 0.f);
   for (int32_t k = last - 1; k >= 0; --k) {
     const float* g_planes = nullptr;
-    if constexpr (kInstance) g_planes = tg[k].plane >= 0 ? &s.g_planes[size_t(tg[k].plane) * kBlocks * kLanes] : &s.zeros[0][0];
+    if constexpr (kInstance)
+      g_planes =
+          tg[k].plane >= 0 ? &s.g_planes[size_t(tg[k].plane) * kBlocks * kLanes] : &s.zeros[0][0];
     alignas(64) float acc[kEntryGrads][kLanes] = {};
     for (int b = 0; b < kBlocks; ++b) {
       if (k >= s.block_last[b]) continue;
@@ -146,7 +161,8 @@ void load_tile_state(const RenderSettings& settings, const RasterState& st,
         s.bg_dot[c][b][l] = s.T_final[b][l] * settings.background[c];
       }
       for (size_t m = 0; m < planes; ++m)
-        s.g_planes[(m * kBlocks + b) * kLanes + l] = in ? grads.instance_maps[m * pixels + pix] : 0.f;
+        s.g_planes[(m * kBlocks + b) * kLanes + l] =
+            in ? grads.instance_maps[m * pixels + pix] : 0.f;
     }
   }
 }
@@ -174,7 +190,8 @@ void rasterize_backward(const RenderSettings& settings, RasterState& st,
     for (size_t t = range.begin(); t < range.end(); ++t) {
       const uint32_t lo = st.bins.tile_start[t], hi = st.bins.tile_start[t + 1];
       if (lo == hi) continue;  // no entries to write
-      const int x0 = int(t % st.bins.tiles_x) * kTileSize, y0 = int(t / st.bins.tiles_x) * kTileSize;
+      const int x0 = int(t % st.bins.tiles_x) * kTileSize,
+                y0 = int(t / st.bins.tiles_x) * kTileSize;
       tg.gather(st, lo, hi);
       load_tile_state(settings, st, grads, color, planes, x0, y0, *s);
       tile_fn(tg, &st.bins.slot_entry[lo], x0, y0, *s, entry_grads);

@@ -131,13 +131,15 @@ void store_block(const RenderSettings& settings, const PixelBlock& block, const 
     if (!block.inside(l, W, H)) continue;
     const size_t pix = block.pixel(l, W);
     if (settings.color)
-      for (int c = 0; c < 3; ++c) out.color[3 * pix + c] = s.color[c][l] + s.T[l] * settings.background[c];
+      for (int c = 0; c < 3; ++c)
+        out.color[3 * pix + c] = s.color[c][l] + s.T[l] * settings.background[c];
     out.alpha[pix] = 1.f - s.T[l];
     out.depth[pix] = s.depth[l];
     out.contributors[pix] = uint32_t(s.blended[l]);
     st.final_transmittance[pix] = s.T[l];
     st.n_contrib[pix] = uint32_t(s.last[l]);
-    for (size_t m = 0; m < planes; ++m) out.instance_maps[m * pixels + pix] = s.planes[m * kLanes + l];
+    for (size_t m = 0; m < planes; ++m)
+      out.instance_maps[m * pixels + pix] = s.planes[m * kLanes + l];
     if (settings.instance_label_map) out.instance_label[pix] = s.instance_label[l];
     if (settings.baseline_label_map) out.baseline_label[pix] = s.baseline_label[l];
   }

@@ -42,9 +42,9 @@ struct RenderSettings {
 
 struct RenderOutput {
   int width = 0, height = 0;
-  std::vector<float> color;   // 3 * W * H, over the background
-  std::vector<float> alpha;   // W * H, accumulated alpha = 1 - T_final
-  std::vector<float> depth;   // W * H, sum of z_i alpha_i T_i (divide by alpha for mean depth)
+  std::vector<float> color;  // 3 * W * H, over the background
+  std::vector<float> alpha;  // W * H, accumulated alpha = 1 - T_final
+  std::vector<float> depth;  // W * H, sum of z_i alpha_i T_i (divide by alpha for mean depth)
   std::vector<uint32_t> contributors;  // W * H, number of Gaussians blended into the pixel
   // Occupancy maps, one W * H plane per entry of instance_map_labels.
   std::vector<int32_t> instance_map_labels;
@@ -73,8 +73,8 @@ struct GaussianGradients {
   std::vector<float> instance_opacity_logits;  // N
   // dLoss/d(projected 2D mean) in normalised device units (pixel gradient
   // times half the image size on that axis): the densification statistic.
-  std::vector<float> mean2d_ndc;               // 2N
-  std::vector<uint8_t> visible;                // N: 1 if the Gaussian was rasterized
+  std::vector<float> mean2d_ndc;  // 2N
+  std::vector<uint8_t> visible;   // N: 1 if the Gaussian was rasterized
 
   // Sizes every array for n Gaussians (values are left to the backward pass,
   // which writes all of them).

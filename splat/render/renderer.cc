@@ -108,10 +108,13 @@ void CpuRenderer::backward(const GaussianModel& model, const Camera& camera,
       (!grads.alpha.empty() && grads.alpha.size() != pixels) ||
       (!grads.depth.empty() && grads.depth.size() != pixels) ||
       (!grads.instance_maps.empty() &&
-       grads.instance_maps.size() != pixels * std::count_if(st.map_of_label.begin(), st.map_of_label.end(), [](int32_t p) { return p >= 0; })))
+       grads.instance_maps.size() != pixels * std::count_if(st.map_of_label.begin(),
+                                                            st.map_of_label.end(),
+                                                            [](int32_t p) { return p >= 0; })))
     throw std::invalid_argument("output gradients do not match the render's sizes");
   rasterize_backward(settings, st, grads, cpu_state->projected_grads);
-  project_gaussians_backward(model, camera, settings, st.projected, cpu_state->projected_grads, out);
+  project_gaussians_backward(model, camera, settings, st.projected, cpu_state->projected_grads,
+                             out);
 }
 
 }  // namespace splat

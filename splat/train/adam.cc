@@ -12,8 +12,8 @@
 namespace splat {
 
 const char* group_name(ParamGroup g) {
-  static const char* names[] = {"means", "sh_dc", "sh_rest", "opacity", "scales", "rotations",
-                                "instance_opacity"};
+  static const char* names[] = {"means",  "sh_dc",     "sh_rest",         "opacity",
+                                "scales", "rotations", "instance_opacity"};
   return names[int(g)];
 }
 
@@ -24,13 +24,20 @@ int group_width(ParamGroup g) {
 
 std::vector<float>& group_values(GaussianModel& m, ParamGroup g) {
   switch (g) {
-    case ParamGroup::kMeans: return m.means;
-    case ParamGroup::kShDc: return m.sh_dc;
-    case ParamGroup::kShRest: return m.sh_rest;
-    case ParamGroup::kOpacity: return m.opacity_logits;
-    case ParamGroup::kScales: return m.log_scales;
-    case ParamGroup::kRotations: return m.rotations;
-    case ParamGroup::kInstanceOpacity: return m.instance_opacity_logits;
+    case ParamGroup::kMeans:
+      return m.means;
+    case ParamGroup::kShDc:
+      return m.sh_dc;
+    case ParamGroup::kShRest:
+      return m.sh_rest;
+    case ParamGroup::kOpacity:
+      return m.opacity_logits;
+    case ParamGroup::kScales:
+      return m.log_scales;
+    case ParamGroup::kRotations:
+      return m.rotations;
+    case ParamGroup::kInstanceOpacity:
+      return m.instance_opacity_logits;
   }
   throw std::logic_error("bad group");
 }
@@ -41,13 +48,20 @@ const std::vector<float>& group_values(const GaussianModel& m, ParamGroup g) {
 
 const std::vector<float>& group_gradients(const GaussianGradients& g, ParamGroup group) {
   switch (group) {
-    case ParamGroup::kMeans: return g.means;
-    case ParamGroup::kShDc: return g.sh_dc;
-    case ParamGroup::kShRest: return g.sh_rest;
-    case ParamGroup::kOpacity: return g.opacity_logits;
-    case ParamGroup::kScales: return g.log_scales;
-    case ParamGroup::kRotations: return g.rotations;
-    case ParamGroup::kInstanceOpacity: return g.instance_opacity_logits;
+    case ParamGroup::kMeans:
+      return g.means;
+    case ParamGroup::kShDc:
+      return g.sh_dc;
+    case ParamGroup::kShRest:
+      return g.sh_rest;
+    case ParamGroup::kOpacity:
+      return g.opacity_logits;
+    case ParamGroup::kScales:
+      return g.log_scales;
+    case ParamGroup::kRotations:
+      return g.rotations;
+    case ParamGroup::kInstanceOpacity:
+      return g.instance_opacity_logits;
   }
   throw std::logic_error("bad group");
 }

@@ -17,41 +17,35 @@ float logit(float p) { return std::log(p / (1 - p)); }
 void append_copy(GaussianModel& m, size_t i) {
   const size_t n = m.size();
   m.resize(n + 1);
-  auto copy = [&](std::vector<float>& v, size_t w) {
+  for (int g = 0; g < kParamGroups; ++g) {
+    std::vector<float>& v = group_values(m, ParamGroup(g));
+    const size_t w = size_t(group_width(ParamGroup(g)));
     std::copy_n(v.begin() + long(w * i), w, v.begin() + long(w * n));
-  };
-  copy(m.means, 3);
-  copy(m.sh_dc, 3);
-  copy(m.sh_rest, kShRestFloats);
-  copy(m.opacity_logits, 1);
-  copy(m.log_scales, 3);
-  copy(m.rotations, 4);
-  copy(m.instance_opacity_logits, 1);
+  }
   m.labels[n] = m.labels[i];
 }
 
+// Keeps, in order, the entries i of v (w values each) with keep[i] != 0.
+template <typename T>
+void compact(std::vector<T>& v, size_t w, const std::vector<uint8_t>& keep) {
+  size_t out = 0;
+  for (size_t i = 0; i < keep.size(); ++i) {
+    if (!keep[i]) continue;
+    for (size_t k = 0; k < w; ++k) v[w * out + k] = v[w * i + k];
+    ++out;
+  }
+  v.resize(w * out);
+}
+
 void keep_gaussians(GaussianModel& m, const std::vector<uint8_t>& keep) {
-  auto compact = [&](auto& v, size_t w) {
-    size_t out = 0;
-    for (size_t i = 0; i < keep.size(); ++i) {
-      if (!keep[i]) continue;
-      for (size_t k = 0; k < w; ++k) v[w * out + k] = v[w * i + k];
-      ++out;
-    }
-    v.resize(w * out);
-  };
-  compact(m.means, 3);
-  compact(m.sh_dc, 3);
-  compact(m.sh_rest, kShRestFloats);
-  compact(m.opacity_logits, 1);
-  compact(m.log_scales, 3);
-  compact(m.rotations, 4);
-  compact(m.instance_opacity_logits, 1);
-  compact(m.labels, 1);
+  for (int g = 0; g < kParamGroups; ++g)
+    compact(group_values(m, ParamGroup(g)), size_t(group_width(ParamGroup(g))), keep);
+  compact(m.labels, 1, keep);
 }
 
 float max_scale(const GaussianModel& m, size_t i) {
-  return std::exp(std::max({m.log_scales[3 * i], m.log_scales[3 * i + 1], m.log_scales[3 * i + 2]}));
+  return std::exp(
+      std::max({m.log_scales[3 * i], m.log_scales[3 * i + 1], m.log_scales[3 * i + 2]}));
 }
 
 }  // namespace
@@ -93,15 +87,9 @@ size_t prune(GaussianModel& model, GaussianAdam& adam, DensificationStats& stats
   }
   keep_gaussians(model, keep);
   adam.keep(keep);
-  auto compact = [&](std::vector<float>& v) {
-    size_t out = 0;
-    for (size_t i = 0; i < keep.size(); ++i)
-      if (keep[i]) v[out++] = v[i];
-    v.resize(out);
-  };
-  compact(stats.grad_accum);
-  compact(stats.count);
-  compact(stats.max_radius);
+  compact(stats.grad_accum, 1, keep);
+  compact(stats.count, 1, keep);
+  compact(stats.max_radius, 1, keep);
   return removed;
 }
 
@@ -137,7 +125,8 @@ DensifyResult densify_and_prune(GaussianModel& m, GaussianAdam& adam, Densificat
         offset[k] = std::normal_distribution<float>(0.f, std::exp(m.log_scales[3 * i + k]))(rng);
       const size_t j = m.size();
       append_copy(m, i);
-      const Eigen::Vector3f mean = R * offset + Eigen::Vector3f(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
+      const Eigen::Vector3f mean =
+          R * offset + Eigen::Vector3f(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
       for (int k = 0; k < 3; ++k) {
         m.means[3 * j + k] = mean[k];
         m.log_scales[3 * j + k] = m.log_scales[3 * i + k] - std::log(o.split_scale_divisor);

@@ -14,16 +14,16 @@
 namespace splat {
 
 struct DensifyOptions {
-  float grad_threshold = 0.0002f;   // on the mean NDC gradient norm
-  float percent_dense = 0.01f;      // clone if largest scale <= this * extent, else split
-  int split_count = 2;              // split into this many
+  float grad_threshold = 0.0002f;    // on the mean NDC gradient norm
+  float percent_dense = 0.01f;       // clone if largest scale <= this * extent, else split
+  int split_count = 2;               // split into this many
   float split_scale_divisor = 1.6f;  // 0.8 * split_count in the reference
-  float min_opacity = 0.005f;       // prune below
+  float min_opacity = 0.005f;        // prune below
   // Prune above this screen radius after the first opacity reset; 0 = never.
   // (The spec's rule. The reference implementation zeroes its radii just
   // before this test, so in practice it never prunes by screen size.)
   float max_screen_radius = 20.f;
-  float max_world_scale = 0.1f;     // prune largest scale above this * extent (likewise)
+  float max_world_scale = 0.1f;  // prune largest scale above this * extent (likewise)
 };
 
 // Per-Gaussian statistics accumulated between densification steps.

@@ -14,7 +14,8 @@ constexpr float kC1 = 0.01f * 0.01f, kC2 = 0.03f * 0.03f;
 std::array<float, 2 * kRadius + 1> gaussian_window() {
   std::array<float, 2 * kRadius + 1> w{};
   float sum = 0;
-  for (int i = -kRadius; i <= kRadius; ++i) sum += w[i + kRadius] = std::exp(-float(i * i) / (2 * 1.5f * 1.5f));
+  for (int i = -kRadius; i <= kRadius; ++i)
+    sum += w[i + kRadius] = std::exp(-float(i * i) / (2 * 1.5f * 1.5f));
   for (float& v : w) v /= sum;
   return w;
 }
@@ -84,7 +85,8 @@ double ssim_plane(const std::vector<float>& x, const std::vector<float>& y, int 
     sum += S;
     if (dx) {
       // S as a function of (mu_x, E[x^2], E[xy]) with the y statistics fixed.
-      d_mu[i] = float((2 * muy * A2 - 2 * muy * A1) / (B1 * B2) - S * (2 * mux / B1 - 2 * mux / B2));
+      d_mu[i] =
+          float((2 * muy * A2 - 2 * muy * A1) / (B1 * B2) - S * (2 * mux / B1 - 2 * mux / B2));
       d_exx[i] = float(-S / B2);
       d_exy[i] = float(2 * A1 / (B1 * B2));
     }
@@ -142,7 +144,8 @@ ImageLoss image_loss(const std::vector<float>& rendered, const ImageRGB& target,
 
 double ssim(const std::vector<float>& a, const std::vector<float>& b, int width, int height) {
   double sum = 0;
-  for (int c = 0; c < 3; ++c) sum += ssim_plane(channel(a, c), channel(b, c), width, height, nullptr);
+  for (int c = 0; c < 3; ++c)
+    sum += ssim_plane(channel(a, c), channel(b, c), width, height, nullptr);
   return sum / a.size();
 }
 

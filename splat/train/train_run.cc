@@ -26,7 +26,8 @@ void TrainRunOptions::Check() const {
 
 namespace {
 
-json metrics_json(const std::vector<ViewMetrics>& metrics, int iteration, const std::string& split) {
+json metrics_json(const std::vector<ViewMetrics>& metrics, int iteration,
+                  const std::string& split) {
   json views = json::array();
   double p = 0, s = 0;
   for (const auto& m : metrics) {
@@ -34,18 +35,24 @@ json metrics_json(const std::vector<ViewMetrics>& metrics, int iteration, const 
     p += m.psnr, s += m.ssim;
   }
   const double n = std::max<size_t>(metrics.size(), 1);
-  return {{"iteration", iteration}, {"split", split}, {"test_views", metrics.size()},
+  return {{"iteration", iteration},
+          {"split", split},
+          {"test_views", metrics.size()},
           {"psnr", metrics.empty() ? json(nullptr) : json(p / n)},
-          {"ssim", metrics.empty() ? json(nullptr) : json(s / n)}, {"views", views}};
+          {"ssim", metrics.empty() ? json(nullptr) : json(s / n)},
+          {"views", views}};
 }
 
 void write_ply_at(const Trainer& t, const fs::path& work) {
-  write_gaussian_ply(work / "point_cloud" / fmt::format("iteration_{}", t.iteration()) / "point_cloud.ply", t.model());
+  write_gaussian_ply(
+      work / "point_cloud" / fmt::format("iteration_{}", t.iteration()) / "point_cloud.ply",
+      t.model());
 }
 
 }  // namespace
 
-TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work, const TrainRunOptions& o) {
+TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
+                            const TrainRunOptions& o) {
   o.Check();
   const auto t0 = std::chrono::steady_clock::now();
   Trainer trainer(scene_dir, o.train);
@@ -53,7 +60,8 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work, con
   if (o.resume) {
     if (!fs::exists(checkpoint)) throw InputError(checkpoint, "no checkpoint to resume from");
     trainer.load_checkpoint(checkpoint);
-    spdlog::info("resumed at iteration {} with {} Gaussians", trainer.iteration(), trainer.model().size());
+    spdlog::info("resumed at iteration {} with {} Gaussians", trainer.iteration(),
+                 trainer.model().size());
   } else {
     trainer.initialize_from_sfm();
     spdlog::info("{} Gaussians from the SfM points; {} training and {} test views ({})",
@@ -63,13 +71,17 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work, con
   fs::create_directories(work);
   TrainingLog log(work / "train_log.jsonl", trainer.iteration());
   ProgressBar bar(trainer.iteration(), o.stop_at);
-  auto is_in = [](const std::vector<int>& v, int it) { return std::find(v.begin(), v.end(), it) != v.end(); };
+  auto is_in = [](const std::vector<int>& v, int it) {
+    return std::find(v.begin(), v.end(), it) != v.end();
+  };
 
   trainer.train_until(o.stop_at, [&](const IterationStats& s) {
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     log.record(s, elapsed);
     bar.update(s);
-    if (s.iteration % o.checkpoint_every == 0 && s.iteration != o.stop_at) trainer.save_checkpoint(checkpoint);
+    if (s.iteration % o.checkpoint_every == 0 && s.iteration != o.stop_at)
+      trainer.save_checkpoint(checkpoint);
     if (is_in(o.ply_at, s.iteration) && s.iteration != o.stop_at) write_ply_at(trainer, work);
     if (is_in(o.test_at, s.iteration) && s.iteration != o.stop_at && !trainer.split().test.empty())
       log.record_test(s.iteration, trainer.evaluate(trainer.split().test));
@@ -78,7 +90,8 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work, con
   trainer.save_checkpoint(checkpoint);
   write_ply_at(trainer, work);
 
-  const std::vector<ViewMetrics> metrics = trainer.evaluate(trainer.split().test, work / "test" / "renders");
+  const std::vector<ViewMetrics> metrics =
+      trainer.evaluate(trainer.split().test, work / "test" / "renders");
   if (!metrics.empty()) log.record_test(trainer.iteration(), metrics);
   const json m = metrics_json(metrics, trainer.iteration(), trainer.split().rule);
   write_text_atomically(work / "metrics.json", m.dump(2) + "\n");
@@ -88,7 +101,8 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work, con
   r.iteration = trainer.iteration();
   r.gaussians = trainer.model().size();
   r.test_views = metrics.size();
-  if (!metrics.empty()) r.test_psnr = m["psnr"].get<double>(), r.test_ssim = m["ssim"].get<double>();
+  if (!metrics.empty())
+    r.test_psnr = m["psnr"].get<double>(), r.test_ssim = m["ssim"].get<double>();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

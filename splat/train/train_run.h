@@ -16,11 +16,11 @@ namespace splat {
 
 struct TrainRunOptions {
   TrainOptions train;
-  int stop_at = 20000;             // stage one ends here by default
+  int stop_at = 20000;  // stage one ends here by default
   int checkpoint_every = 1000;
-  std::vector<int> ply_at;         // extra iterations with a PLY (the end always has one)
-  std::vector<int> test_at;        // iterations with a test evaluation (the end always has one)
-  bool resume = false;             // continue from <work>/checkpoints/latest.ckpt
+  std::vector<int> ply_at;   // extra iterations with a PLY (the end always has one)
+  std::vector<int> test_at;  // iterations with a test evaluation (the end always has one)
+  bool resume = false;       // continue from <work>/checkpoints/latest.ckpt
   void Check() const;
 };
 

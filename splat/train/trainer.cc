@@ -31,7 +31,8 @@ void TrainOptions::Check() const {
 ViewSplit split_views(const Scene& scene, SplitRule rule) {
   ViewSplit s;
   const fs::path train_dir = scene.root() / "images_train";
-  if (rule == SplitRule::kAuto) rule = fs::is_directory(train_dir) ? SplitRule::kLerfMask : SplitRule::kEvery8;
+  if (rule == SplitRule::kAuto)
+    rule = fs::is_directory(train_dir) ? SplitRule::kLerfMask : SplitRule::kEvery8;
   const auto& views = scene.views();
   for (size_t i = 0; i < views.size(); ++i) {
     bool test = false;
@@ -39,8 +40,11 @@ ViewSplit split_views(const Scene& scene, SplitRule rule) {
     if (rule == SplitRule::kEvery8) test = i % 8 == 0;
     (test ? s.test : s.train).push_back(i);
   }
-  s.rule = rule == SplitRule::kLerfMask ? "lerf-mask (images_train/)" : rule == SplitRule::kEvery8 ? "every 8th view" : "all views";
-  if (s.train.empty()) throw InputError(train_dir, "no training views (images_train/ matches no image of the model)");
+  s.rule = rule == SplitRule::kLerfMask ? "lerf-mask (images_train/)"
+           : rule == SplitRule::kEvery8 ? "every 8th view"
+                                        : "all views";
+  if (s.train.empty())
+    throw InputError(train_dir, "no training views (images_train/ matches no image of the model)");
   return s;
 }
 
@@ -87,7 +91,8 @@ RenderSettings Trainer::render_settings() const {
   return s;
 }
 
-void Trainer::train_until(int until, const std::function<void(const IterationStats&)>& on_iteration) {
+void Trainer::train_until(int until,
+                          const std::function<void(const IterationStats&)>& on_iteration) {
   const TrainOptions& o = options_;
   while (iteration_ < until) {
     const int it = ++iteration_;
@@ -104,9 +109,10 @@ void Trainer::train_until(int until, const std::function<void(const IterationSta
     renderer_.render(model_, cam, settings, render_out_, &render_state_);
     st.loss = image_loss(render_out_.color, *target, o.loss, &out_grads_.color);
     if (!std::isfinite(st.loss.total))
-      throw TrainingDiverged(fmt::format("the loss is not finite at iteration {} (view {}); "
-                                         "nothing was saved after the last checkpoint",
-                                         it, scene_->views()[view].name));
+      throw TrainingDiverged(
+          fmt::format("the loss is not finite at iteration {} (view {}); "
+                      "nothing was saved after the last checkpoint",
+                      it, scene_->views()[view].name));
     st.psnr = psnr(render_out_.color, target->data);
     renderer_.backward(model_, cam, settings, *render_state_, out_grads_, grads_);
 
@@ -125,8 +131,9 @@ void Trainer::train_until(int until, const std::function<void(const IterationSta
       }
     }
     if (it < o.total_iterations) {
-      const std::array<float, kParamGroups> lr = {st.lr_position, o.lr_sh_dc, o.lr_sh_rest, o.lr_opacity,
-                                                  o.lr_scale, o.lr_rotation, o.lr_instance_opacity};
+      const std::array<float, kParamGroups> lr = {st.lr_position,       o.lr_sh_dc, o.lr_sh_rest,
+                                                  o.lr_opacity,         o.lr_scale, o.lr_rotation,
+                                                  o.lr_instance_opacity};
       adam_.step(model_, grads_, lr, skip, sh_degree_);
     }
     st.gaussians = model_.size();
@@ -134,7 +141,8 @@ void Trainer::train_until(int until, const std::function<void(const IterationSta
   }
 }
 
-std::vector<ViewMetrics> Trainer::evaluate(const std::vector<size_t>& views, const fs::path& render_dir) {
+std::vector<ViewMetrics> Trainer::evaluate(const std::vector<size_t>& views,
+                                           const fs::path& render_dir) {
   std::vector<ViewMetrics> metrics;
   RenderSettings settings = render_settings();
   settings.sh_degree = sh_degree_;
@@ -147,7 +155,8 @@ std::vector<ViewMetrics> Trainer::evaluate(const std::vector<size_t>& views, con
     metrics.push_back(m);
     if (!render_dir.empty()) {
       ImageRGB image(out.width, out.height);
-      for (size_t i = 0; i < image.data.size(); ++i) image.data[i] = std::clamp(out.color[i], 0.f, 1.f);
+      for (size_t i = 0; i < image.data.size(); ++i)
+        image.data[i] = std::clamp(out.color[i], 0.f, 1.f);
       write_image_rgb(render_dir / (fs::path(view.name).stem().string() + ".png"), image);
     }
   }
@@ -161,9 +170,7 @@ constexpr char kMagic[8] = {'O', 'P', '2', 'G', 'S', 'C', 'K', 'P'};
 constexpr uint32_t kVersion = 1;
 
 void write_model(std::ostream& out, const GaussianModel& m) {
-  for (const auto* v : {&m.means, &m.sh_dc, &m.sh_rest, &m.opacity_logits, &m.log_scales,
-                        &m.rotations, &m.instance_opacity_logits})
-    write_vector(out, *v);
+  for (int g = 0; g < kParamGroups; ++g) write_vector(out, group_values(m, ParamGroup(g)));
   write_vector(out, m.labels);
   write_pod(out, uint8_t(m.has_instance_opacity));
   write_pod(out, uint8_t(m.has_labels));
@@ -171,23 +178,21 @@ void write_model(std::ostream& out, const GaussianModel& m) {
 
 GaussianModel read_model(std::istream& in) {
   GaussianModel m;
-  for (auto* v : {&m.means, &m.sh_dc, &m.sh_rest, &m.opacity_logits, &m.log_scales, &m.rotations,
-                  &m.instance_opacity_logits})
-    *v = read_vector<float>(in);
+  for (int g = 0; g < kParamGroups; ++g) group_values(m, ParamGroup(g)) = read_vector<float>(in);
   m.labels = read_vector<int32_t>(in);
   m.has_instance_opacity = read_pod<uint8_t>(in);
   m.has_labels = read_pod<uint8_t>(in);
   const size_t n = m.opacity_logits.size();
-  if (m.means.size() != 3 * n || m.sh_rest.size() != kShRestFloats * n || m.rotations.size() != 4 * n ||
-      m.labels.size() != n)
-    throw std::runtime_error("inconsistent model arrays");
+  for (int g = 0; g < kParamGroups; ++g)
+    if (group_values(m, ParamGroup(g)).size() != size_t(group_width(ParamGroup(g))) * n)
+      throw std::runtime_error(std::string("inconsistent array ") + group_name(ParamGroup(g)));
+  if (m.labels.size() != n) throw std::runtime_error("inconsistent labels");
   return m;
 }
 
 bool all_finite(const GaussianModel& m) {
-  for (const auto* v : {&m.means, &m.sh_dc, &m.sh_rest, &m.opacity_logits, &m.log_scales,
-                        &m.rotations, &m.instance_opacity_logits})
-    for (float x : *v)
+  for (int g = 0; g < kParamGroups; ++g)
+    for (float x : group_values(m, ParamGroup(g)))
       if (!std::isfinite(x)) return false;
   return true;
 }
@@ -195,9 +200,10 @@ bool all_finite(const GaussianModel& m) {
 
 void Trainer::save_checkpoint(const fs::path& file) const {
   if (!all_finite(model_))
-    throw TrainingDiverged(fmt::format("the model holds non-finite values at iteration {}; the "
-                                       "checkpoint {} was not written",
-                                       iteration_, file.string()));
+    throw TrainingDiverged(
+        fmt::format("the model holds non-finite values at iteration {}; the "
+                    "checkpoint {} was not written",
+                    iteration_, file.string()));
   std::ostringstream out(std::ios::binary);
   out.write(kMagic, 8);
   write_pod(out, kVersion);
@@ -228,7 +234,8 @@ void Trainer::load_checkpoint(const fs::path& file) {
   if (!in.read(magic, 8) || !std::equal(magic, magic + 8, kMagic))
     throw InputError(file, "not an op2gs checkpoint");
   try {
-    if (read_pod<uint32_t>(in) != kVersion) throw InputError(file, "unsupported checkpoint version");
+    if (read_pod<uint32_t>(in) != kVersion)
+      throw InputError(file, "unsupported checkpoint version");
     iteration_ = read_pod<int32_t>(in);
     sh_degree_ = read_pod<int32_t>(in);
     model_ = read_model(in);
@@ -243,11 +250,13 @@ void Trainer::load_checkpoint(const fs::path& file) {
     std::string expected;
     for (size_t v : split_.train) expected += scene_->views()[v].name + "\n";
     if (std::string(names.begin(), names.end()) != expected)
-      throw InputError(file, "the checkpoint was made with other training views than this scene has");
+      throw InputError(file,
+                       "the checkpoint was made with other training views than this scene has");
     if (adam_.size() != model_.size() || stats_.count.size() != model_.size())
       throw InputError(file, "checkpoint arrays disagree in size");
     for (size_t v : view_stack_)
-      if (v >= scene_->views().size()) throw InputError(file, "checkpoint refers to a missing view");
+      if (v >= scene_->views().size())
+        throw InputError(file, "checkpoint refers to a missing view");
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {

@@ -71,7 +71,7 @@ ViewSplit split_views(const Scene& scene, SplitRule rule);
 struct IterationStats {
   int iteration = 0;
   ImageLoss loss;
-  double psnr = 0;        // of this iteration's training view
+  double psnr = 0;  // of this iteration's training view
   size_t gaussians = 0;
   float lr_position = 0;
   int sh_degree = 0;

@@ -45,11 +45,13 @@ void TrainingLog::append(const std::string& line) {
 }
 
 void TrainingLog::record(const IterationStats& s, double elapsed) {
-  json j = {{"iteration", s.iteration}, {"loss", s.loss.total}, {"l1", s.loss.l1},
-            {"ssim", s.loss.ssim},      {"psnr", s.psnr},       {"gaussians", s.gaussians},
+  json j = {{"iteration", s.iteration},     {"loss", s.loss.total},     {"l1", s.loss.l1},
+            {"ssim", s.loss.ssim},          {"psnr", s.psnr},           {"gaussians", s.gaussians},
             {"lr_position", s.lr_position}, {"sh_degree", s.sh_degree}, {"elapsed_s", elapsed}};
   if (s.densified.cloned + s.densified.split + s.densified.pruned > 0)
-    j["densify"] = {{"cloned", s.densified.cloned}, {"split", s.densified.split}, {"pruned", s.densified.pruned}};
+    j["densify"] = {{"cloned", s.densified.cloned},
+                    {"split", s.densified.split},
+                    {"pruned", s.densified.pruned}};
   if (s.opacity_reset) j["opacity_reset"] = true;
   append(j.dump());
 }
@@ -78,10 +80,13 @@ void plot_training_curve(const fs::path& jsonl, const fs::path& png) {
     for (auto& [i, v] : *series) min_psnr = std::min(min_psnr, v), max_psnr = std::max(max_psnr, v);
   if (min_psnr > max_psnr) min_psnr = 0, max_psnr = 1;
   auto px = [&](double it) { return int(L + (W - L - R) * it / max_it); };
-  auto py = [&](double v, double lo, double hi) { return int(H - B - (H - T - B) * (v - lo) / std::max(hi - lo, 1e-9)); };
+  auto py = [&](double v, double lo, double hi) {
+    return int(H - B - (H - T - B) * (v - lo) / std::max(hi - lo, 1e-9));
+  };
   cv::rectangle(canvas, {L, T}, {W - R, H - B}, cv::Scalar(0, 0, 0), 1);
   // Smoothed series: one point per ~W/2 iterations bucket.
-  auto draw = [&](const std::vector<std::pair<double, double>>& s, double lo, double hi, cv::Scalar color, int thick) {
+  auto draw = [&](const std::vector<std::pair<double, double>>& s, double lo, double hi,
+                  cv::Scalar color, int thick) {
     const size_t step = std::max<size_t>(1, s.size() / 400);
     std::vector<cv::Point> pts;
     for (size_t k = 0; k < s.size(); k += step) {
@@ -95,15 +100,23 @@ void plot_training_curve(const fs::path& jsonl, const fs::path& png) {
   };
   draw(loss, 0, max_loss, cv::Scalar(40, 40, 200), 1);
   draw(train_psnr, min_psnr, max_psnr, cv::Scalar(200, 120, 40), 1);
-  for (auto& [i, v] : test_psnr) cv::circle(canvas, {px(i), py(v, min_psnr, max_psnr)}, 5, cv::Scalar(30, 160, 30), cv::FILLED);
+  for (auto& [i, v] : test_psnr)
+    cv::circle(canvas, {px(i), py(v, min_psnr, max_psnr)}, 5, cv::Scalar(30, 160, 30), cv::FILLED);
   const auto font = cv::FONT_HERSHEY_SIMPLEX;
-  cv::putText(canvas, "loss (red, left axis), train PSNR (blue) and test PSNR (green dots, right axis)", {L, 25}, font, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  cv::putText(canvas, fmt::format("{:.3f}", max_loss), {5, T + 5}, font, 0.45, cv::Scalar(40, 40, 200), 1, cv::LINE_AA);
+  cv::putText(canvas,
+              "loss (red, left axis), train PSNR (blue) and test PSNR (green dots, right axis)",
+              {L, 25}, font, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  cv::putText(canvas, fmt::format("{:.3f}", max_loss), {5, T + 5}, font, 0.45,
+              cv::Scalar(40, 40, 200), 1, cv::LINE_AA);
   cv::putText(canvas, "0", {5, H - B}, font, 0.45, cv::Scalar(40, 40, 200), 1, cv::LINE_AA);
-  cv::putText(canvas, fmt::format("{:.1f} dB", max_psnr), {W - R + 4, T + 5}, font, 0.45, cv::Scalar(200, 120, 40), 1, cv::LINE_AA);
-  cv::putText(canvas, fmt::format("{:.1f} dB", min_psnr), {W - R + 4, H - B}, font, 0.45, cv::Scalar(200, 120, 40), 1, cv::LINE_AA);
-  cv::putText(canvas, "iteration", {W / 2 - 30, H - 15}, font, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  cv::putText(canvas, fmt::format("{}", int(max_it)), {W - R - 30, H - B + 18}, font, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  cv::putText(canvas, fmt::format("{:.1f} dB", max_psnr), {W - R + 4, T + 5}, font, 0.45,
+              cv::Scalar(200, 120, 40), 1, cv::LINE_AA);
+  cv::putText(canvas, fmt::format("{:.1f} dB", min_psnr), {W - R + 4, H - B}, font, 0.45,
+              cv::Scalar(200, 120, 40), 1, cv::LINE_AA);
+  cv::putText(canvas, "iteration", {W / 2 - 30, H - 15}, font, 0.5, cv::Scalar(0, 0, 0), 1,
+              cv::LINE_AA);
+  cv::putText(canvas, fmt::format("{}", int(max_it)), {W - R - 30, H - B + 18}, font, 0.45,
+              cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   ImageRGB image(W, H);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
@@ -115,7 +128,11 @@ void plot_training_curve(const fs::path& jsonl, const fs::path& png) {
 }
 
 ProgressBar::ProgressBar(int start, int end, std::FILE* out)
-    : start_(start), end_(end), out_(out), tty_(::isatty(::fileno(out))), t0_(std::chrono::steady_clock::now()) {}
+    : start_(start),
+      end_(end),
+      out_(out),
+      tty_(::isatty(::fileno(out))),
+      t0_(std::chrono::steady_clock::now()) {}
 
 void ProgressBar::update(const IterationStats& s) {
   ema_loss_ = ema_loss_ == 0 ? s.loss.total : 0.4 * s.loss.total + 0.6 * ema_loss_;
@@ -123,15 +140,17 @@ void ProgressBar::update(const IterationStats& s) {
   const int done = s.iteration - start_, total = end_ - start_;
   if (!tty_ && s.iteration % 500 != 0 && s.iteration != end_) return;
   if (tty_ && s.iteration % 10 != 0 && s.iteration != end_) return;
-  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
   const double rate = done / std::max(elapsed, 1e-9);
   const double eta = (end_ - s.iteration) / std::max(rate, 1e-9);
   constexpr int kWidth = 24;
   const int filled = total > 0 ? kWidth * done / total : kWidth;
   const std::string bar = std::string(filled, '#') + std::string(kWidth - filled, '-');
-  std::fprintf(out_, "%s[%s] %d/%d  loss %.4f  psnr %.2f dB  %zu gaussians  %.1f it/s  ETA %dm%02ds%s",
-               tty_ ? "\r" : "", bar.c_str(), s.iteration, end_, ema_loss_, ema_psnr_, s.gaussians, rate,
-               int(eta) / 60, int(eta) % 60, tty_ ? "" : "\n");
+  std::fprintf(out_,
+               "%s[%s] %d/%d  loss %.4f  psnr %.2f dB  %zu gaussians  %.1f it/s  ETA %dm%02ds%s",
+               tty_ ? "\r" : "", bar.c_str(), s.iteration, end_, ema_loss_, ema_psnr_, s.gaussians,
+               rate, int(eta) / 60, int(eta) % 60, tty_ ? "" : "\n");
   std::fflush(out_);
 }
 

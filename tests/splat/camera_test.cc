@@ -8,7 +8,8 @@ namespace splat {
 namespace {
 
 TEST(Camera, LookAtProjectsTargetToPrincipalPoint) {
-  const Camera c = Camera::look_at({3, 2, 1}, {0, 0.5, 0}, Eigen::Vector3d::UnitY(), 320, 240, 300, 300);
+  const Camera c =
+      Camera::look_at({3, 2, 1}, {0, 0.5, 0}, Eigen::Vector3d::UnitY(), 320, 240, 300, 300);
   const Eigen::Vector2d px = c.project({0, 0.5, 0});
   EXPECT_NEAR(px.x(), 160.0, 1e-9);
   EXPECT_NEAR(px.y(), 120.0, 1e-9);
@@ -53,7 +54,8 @@ TEST(Camera, ResizedScalesIntrinsics) {
 
 TEST(Camera, SceneExtentIsReferenceDefinition) {
   std::vector<Camera> cams;
-  for (const auto& eye : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(0, 3, 0)}) {
+  for (const auto& eye :
+       {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(0, 3, 0)}) {
     Camera c;
     c.t = -eye;  // R = I: centre = eye
     cams.push_back(c);

@@ -181,14 +181,14 @@ TEST(ColmapModel, HugeCountIsRejectedWithoutAllocating) {
 TEST(ColmapModel, MalformedTextIsRejected) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"cameras.txt", "1 FANCY_MODEL 10 10 1 2 3\n"},
-      {"cameras.txt", "1 PINHOLE 10 10 1 2 3\n"},          // too few params
-      {"cameras.txt", "1 PINHOLE 10 10 1 2 3 4 5\n"},      // too many
+      {"cameras.txt", "1 PINHOLE 10 10 1 2 3\n"},      // too few params
+      {"cameras.txt", "1 PINHOLE 10 10 1 2 3 4 5\n"},  // too many
       {"cameras.txt", "x PINHOLE 10 10 1 2 3 4\n"},
-      {"images.txt", "1 1 0 0 0 0 0 0 1 a.png\n1 2\n"},     // 2D point missing its id
-      {"images.txt", "1 1 0 0 0 0 0 0 1 a.png\n"},          // no points line
-      {"images.txt", "1 1 0 0 0 0 0 0 7 a.png\n\n"},        // unknown camera
-      {"points3D.txt", "1 0 0 0 300 0 0 0\n"},             // colour out of range
-      {"points3D.txt", "1 0 0 0 1 2 3 0 5\n"},             // half a track element
+      {"images.txt", "1 1 0 0 0 0 0 0 1 a.png\n1 2\n"},  // 2D point missing its id
+      {"images.txt", "1 1 0 0 0 0 0 0 1 a.png\n"},       // no points line
+      {"images.txt", "1 1 0 0 0 0 0 0 7 a.png\n\n"},     // unknown camera
+      {"points3D.txt", "1 0 0 0 300 0 0 0\n"},           // colour out of range
+      {"points3D.txt", "1 0 0 0 1 2 3 0 5\n"},           // half a track element
   };
   for (const auto& [file, text] : cases) {
     TempDir dir;

@@ -1,8 +1,8 @@
 #include "splat/image.h"
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
-#include <OpenImageIO/imageio.h>
 #include <cmath>
 
 #include "splat/error.h"

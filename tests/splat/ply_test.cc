@@ -100,7 +100,8 @@ TEST(Ply, ReadsAsciiFromOtherToolsWithLowerShDegree) {
   for (const char* p : {"opacity", "x", "y", "z", "f_dc_0", "f_dc_1", "f_dc_2"})
     text += std::string("property double ") + p + "\n";
   for (int k = 0; k < 9; ++k) text += "property float f_rest_" + std::to_string(k) + "\n";
-  for (const char* p : {"scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3", "filter_3D"})
+  for (const char* p :
+       {"scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3", "filter_3D"})
     text += std::string("property float ") + p + "\n";
   text += "end_header\n";
   text += "0.5 1 2 3 0.1 0.2 0.3 1 2 3 4 5 6 7 8 9 -1 -2 -3 1 0 0 0 7\n";
@@ -126,8 +127,9 @@ TEST(Ply, ReadsAsciiFromOtherToolsWithLowerShDegree) {
 TEST(Ply, ReadsLabelOfAnyIntegerType) {
   TempDir dir;
   std::string text = "ply\nformat ascii 1.0\nelement vertex 1\n";
-  for (const char* p : {"x", "y", "z", "f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0",
-                        "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3", "instance_opacity"})
+  for (const char* p :
+       {"x", "y", "z", "f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0", "scale_1", "scale_2",
+        "rot_0", "rot_1", "rot_2", "rot_3", "instance_opacity"})
     text += std::string("property float ") + p + "\n";
   text += "property ushort label\nend_header\n0 0 0 0 0 0 0 0 0 0 1 0 0 0 -2.5 513\n";
   write_file(dir / "a.ply", text);
@@ -166,12 +168,26 @@ TEST(Ply, MalformedFilesAreRejected) {
   const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
       {"magic.ply", "plx\n", "not a PLY"},
       {"be.ply", "ply\nformat binary_big_endian 1.0\nelement vertex 0\nend_header\n", "big-endian"},
-      {"type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty half x\nend_header\n", "unknown property type"},
-      {"missing.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n", "'y' is missing"},
-      {"list.ply", "ply\nformat ascii 1.0\nelement vertex 1\n" + good_props + "property list uchar int idx\nend_header\n", "is a list"},
-      {"rest.ply", "ply\nformat ascii 1.0\nelement vertex 0\n" + good_props + "property float f_rest_0\nend_header\n", "SH degree"},
-      {"nan.ply", "ply\nformat ascii 1.0\nelement vertex 1\n" + good_props + "end_header\n0 0 zero 0 0 0 0 0 0 0 1 0 0 0\n", "not a number"},
-      {"short.ply", "ply\nformat ascii 1.0\nelement vertex 2\n" + good_props + "end_header\n0 0 0 0 0 0 0 0 0 0 1 0 0 0\n", "truncated"},
+      {"type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty half x\nend_header\n",
+       "unknown property type"},
+      {"missing.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n",
+       "'y' is missing"},
+      {"list.ply",
+       "ply\nformat ascii 1.0\nelement vertex 1\n" + good_props +
+           "property list uchar int idx\nend_header\n",
+       "is a list"},
+      {"rest.ply",
+       "ply\nformat ascii 1.0\nelement vertex 0\n" + good_props +
+           "property float f_rest_0\nend_header\n",
+       "SH degree"},
+      {"nan.ply",
+       "ply\nformat ascii 1.0\nelement vertex 1\n" + good_props +
+           "end_header\n0 0 zero 0 0 0 0 0 0 0 1 0 0 0\n",
+       "not a number"},
+      {"short.ply",
+       "ply\nformat ascii 1.0\nelement vertex 2\n" + good_props +
+           "end_header\n0 0 0 0 0 0 0 0 0 0 1 0 0 0\n",
+       "truncated"},
       {"novertex.ply", "ply\nformat ascii 1.0\nelement face 0\nend_header\n", "no 'vertex'"},
   };
   for (const auto& [name, text, why] : cases) {

@@ -58,8 +58,7 @@ TEST(Generator, WritesTheLerfMaskLayout) {
   const splat::IdMap mask = splat::read_id_map(s / "test_mask" / "1" / "red ball.png");
   for (size_t i = 0; i < gt.ids.size(); ++i) ASSERT_EQ(mask.ids[i], gt.ids[i] == 1 ? 255 : 0);
   // No temporary folders are left behind.
-  for (const auto& e : fs::directory_iterator(dir.path()))
-    EXPECT_EQ(e.path().filename(), "scene");
+  for (const auto& e : fs::directory_iterator(dir.path())) EXPECT_EQ(e.path().filename(), "scene");
 }
 
 TEST(Generator, SparseModelIsConsistentAndLoadsAsAScene) {
@@ -99,7 +98,8 @@ TEST(Generator, DeterministicForASeed) {
   generate_scene(o, dir / "b", false);
   o.seed = 2;
   generate_scene(o, dir / "c", false);
-  for (const char* f : {"images/frame_00001.png", "sam2/frame_00001.png", "sparse/0/points3D.txt"}) {
+  for (const char* f :
+       {"images/frame_00001.png", "sam2/frame_00001.png", "sparse/0/points3D.txt"}) {
     EXPECT_EQ(read_file(dir / "a" / f), read_file(dir / "b" / f)) << f;
     EXPECT_NE(read_file(dir / "a" / f), read_file(dir / "c" / f)) << f;
   }
@@ -175,7 +175,8 @@ TEST(Generator, ThreeDovsLayout) {
 }
 
 int run(const std::string& args) {
-  const int status = std::system((std::string(OP2GS_SYNTH_BIN) + " " + args + " > /dev/null 2>&1").c_str());
+  const int status =
+      std::system((std::string(OP2GS_SYNTH_BIN) + " " + args + " > /dev/null 2>&1").c_str());
   return WEXITSTATUS(status);
 }
 

@@ -63,7 +63,8 @@ TEST(Sam2Corruption, EachEffectAlone) {
   leak.leak_probability = 1;
   const splat::IdMap leaked = corrupt_like_sam2(truth, {1, 2, 3}, leak, 1);
   size_t one_into_two = 0;
-  for (size_t i = 0; i < truth.ids.size(); ++i) one_into_two += truth.ids[i] == 2 && leaked.ids[i] == 1;
+  for (size_t i = 0; i < truth.ids.size(); ++i)
+    one_into_two += truth.ids[i] == 2 && leaked.ids[i] == 1;
   EXPECT_GT(one_into_two, 0u) << "object 1 touches 2, so it leaks onto 2";
 
   Sam2CorruptionOptions jitter = none;
@@ -76,14 +77,17 @@ TEST(Sam2Corruption, EachEffectAlone) {
   blobs.spurious_blobs = 20;
   const splat::IdMap blobbed = corrupt_like_sam2(truth, {1, 2, 3}, blobs, 1);
   size_t background_labelled = 0;
-  for (size_t i = 0; i < truth.ids.size(); ++i) background_labelled += truth.ids[i] == 0 && blobbed.ids[i] != 0;
+  for (size_t i = 0; i < truth.ids.size(); ++i)
+    background_labelled += truth.ids[i] == 0 && blobbed.ids[i] != 0;
   EXPECT_GT(background_labelled, 0u);
 }
 
 TEST(Sam2Corruption, DeterministicForSeed) {
   const Sam2CorruptionOptions o;
-  EXPECT_EQ(corrupt_like_sam2(blocks(), {1, 2, 3}, o, 9).ids, corrupt_like_sam2(blocks(), {1, 2, 3}, o, 9).ids);
-  EXPECT_NE(corrupt_like_sam2(blocks(), {1, 2, 3}, o, 9).ids, corrupt_like_sam2(blocks(), {1, 2, 3}, o, 10).ids);
+  EXPECT_EQ(corrupt_like_sam2(blocks(), {1, 2, 3}, o, 9).ids,
+            corrupt_like_sam2(blocks(), {1, 2, 3}, o, 9).ids);
+  EXPECT_NE(corrupt_like_sam2(blocks(), {1, 2, 3}, o, 9).ids,
+            corrupt_like_sam2(blocks(), {1, 2, 3}, o, 10).ids);
 }
 
 TEST(Sam2Corruption, RejectsNegativeOptions) {

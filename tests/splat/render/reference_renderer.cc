@@ -23,8 +23,8 @@ Params Params::from(const GaussianModel& m) {
 }
 
 std::vector<std::vector<double>*> Params::arrays() {
-  return {&means, &sh_dc, &sh_rest, &opacity_logits, &log_scales, &rotations,
-          &instance_opacity_logits};
+  return {
+      &means, &sh_dc, &sh_rest, &opacity_logits, &log_scales, &rotations, &instance_opacity_logits};
 }
 
 namespace {
@@ -45,17 +45,21 @@ double sh_color(const Params& p, size_t i, const Vec3& d, int degree, int c) {
   const double x = d.x(), y = d.y(), z = d.z();
   auto rest = [&](int k) { return p.sh_rest[45 * i + 3 * (k - 1) + c]; };
   double v = 0.28209479177387814 * p.sh_dc[3 * i + c];
-  if (degree >= 1) v += -0.4886025119029199 * y * rest(1) + 0.4886025119029199 * z * rest(2) - 0.4886025119029199 * x * rest(3);
+  if (degree >= 1)
+    v += -0.4886025119029199 * y * rest(1) + 0.4886025119029199 * z * rest(2) -
+         0.4886025119029199 * x * rest(3);
   if (degree >= 2) {
     const double xx = x * x, yy = y * y, zz = z * z;
     v += 1.0925484305920792 * x * y * rest(4) - 1.0925484305920792 * y * z * rest(5) +
          0.31539156525252005 * (2 * zz - xx - yy) * rest(6) - 1.0925484305920792 * x * z * rest(7) +
          0.5462742152960396 * (xx - yy) * rest(8);
     if (degree >= 3)
-      v += -0.5900435899266435 * y * (3 * xx - yy) * rest(9) + 2.890611442640554 * x * y * z * rest(10) -
+      v += -0.5900435899266435 * y * (3 * xx - yy) * rest(9) +
+           2.890611442640554 * x * y * z * rest(10) -
            0.4570457994644658 * y * (4 * zz - xx - yy) * rest(11) +
            0.3731763325901154 * z * (2 * zz - 3 * xx - 3 * yy) * rest(12) -
-           0.4570457994644658 * x * (4 * zz - xx - yy) * rest(13) + 1.445305721320277 * z * (xx - yy) * rest(14) -
+           0.4570457994644658 * x * (4 * zz - xx - yy) * rest(13) +
+           1.445305721320277 * z * (xx - yy) * rest(14) -
            0.5900435899266435 * x * (xx - 3 * yy) * rest(15);
   }
   return std::max(v + 0.5, 0.0);
@@ -66,12 +70,16 @@ Projected project(const Params& p, size_t i, const Camera& cam, const RenderSett
   const Vec3 mean(p.means[3 * i], p.means[3 * i + 1], p.means[3 * i + 2]);
   const Vec3 pv = cam.R * mean + cam.t;
   if (pv.z() <= 0.2) return g;
-  Eigen::Quaterniond q(p.rotations[4 * i], p.rotations[4 * i + 1], p.rotations[4 * i + 2], p.rotations[4 * i + 3]);
+  Eigen::Quaterniond q(p.rotations[4 * i], p.rotations[4 * i + 1], p.rotations[4 * i + 2],
+                       p.rotations[4 * i + 3]);
   const Mat3 R = q.normalized().toRotationMatrix();
-  const Mat3 S = Vec3(std::exp(p.log_scales[3 * i]), std::exp(p.log_scales[3 * i + 1]), std::exp(p.log_scales[3 * i + 2])).asDiagonal();
+  const Mat3 S = Vec3(std::exp(p.log_scales[3 * i]), std::exp(p.log_scales[3 * i + 1]),
+                      std::exp(p.log_scales[3 * i + 2]))
+                     .asDiagonal();
   const Mat3 Sigma = R * S * S.transpose() * R.transpose();
   const double lim_x = 1.3 * cam.tan_half_fov_x(), lim_y = 1.3 * cam.tan_half_fov_y();
-  const double uc = std::clamp(pv.x() / pv.z(), -lim_x, lim_x), wc = std::clamp(pv.y() / pv.z(), -lim_y, lim_y);
+  const double uc = std::clamp(pv.x() / pv.z(), -lim_x, lim_x),
+               wc = std::clamp(pv.y() / pv.z(), -lim_y, lim_y);
   Eigen::Matrix<double, 2, 3> J;
   J << cam.fx / pv.z(), 0, -cam.fx * uc / pv.z(), 0, cam.fy / pv.z(), -cam.fy * wc / pv.z();
   const Eigen::Matrix2d cov = J * cam.R * Sigma * cam.R.transpose() * J.transpose();
@@ -131,10 +139,13 @@ Output render(const Params& p, const Camera& cam, const RenderSettings& s) {
       std::vector<size_t> list;
       for (size_t i = 0; i < p.size(); ++i) {
         const Projected& g = proj[i];
-        if (g.visible && x / 16 >= g.x0 && x / 16 < g.x1 && y / 16 >= g.y0 && y / 16 < g.y1) list.push_back(i);
+        if (g.visible && x / 16 >= g.x0 && x / 16 < g.x1 && y / 16 >= g.y0 && y / 16 < g.y1)
+          list.push_back(i);
       }
       // The tile renderer sorts by float depth; sort by the same key.
-      std::stable_sort(list.begin(), list.end(), [&](size_t a, size_t b) { return float(proj[a].depth) < float(proj[b].depth); });
+      std::stable_sort(list.begin(), list.end(), [&](size_t a, size_t b) {
+        return float(proj[a].depth) < float(proj[b].depth);
+      });
       double T = 1, best_star = 0, best_w = 0;
       for (size_t k = 0; k < list.size(); ++k) {
         const Projected& g = proj[list[k]];
@@ -151,7 +162,8 @@ Output render(const Params& p, const Camera& cam, const RenderSettings& s) {
         const double alpha_star = std::min(0.99, g.instance_opacity * G);
         for (size_t m = 0; m < o.map_labels.size(); ++m)
           if (o.map_labels[m] == g.label) o.instance_maps[m * pixels + pix] += alpha_star * T;
-        if (alpha_star >= 1.0 / 255 && alpha_star > best_star) best_star = alpha_star, o.instance_label[pix] = g.label;
+        if (alpha_star >= 1.0 / 255 && alpha_star > best_star)
+          best_star = alpha_star, o.instance_label[pix] = g.label;
         if (w > best_w) best_w = w, o.baseline_label[pix] = g.label;
         ++o.contributors[pix];
         T *= 1 - alpha;
@@ -163,8 +175,8 @@ Output render(const Params& p, const Camera& cam, const RenderSettings& s) {
   return o;
 }
 
-std::vector<double> instance_maps_frozen_T(const Params& frozen, const Params& p,
-                                           const Camera& cam, const RenderSettings& s) {
+std::vector<double> instance_maps_frozen_T(const Params& frozen, const Params& p, const Camera& cam,
+                                           const RenderSettings& s) {
   const int W = cam.width, H = cam.height;
   const size_t pixels = size_t(W) * H;
   std::vector<Projected> base(p.size()), moved(p.size());
@@ -179,9 +191,12 @@ std::vector<double> instance_maps_frozen_T(const Params& frozen, const Params& p
       std::vector<size_t> list;
       for (size_t i = 0; i < p.size(); ++i) {
         const Projected& g = base[i];
-        if (g.visible && x / 16 >= g.x0 && x / 16 < g.x1 && y / 16 >= g.y0 && y / 16 < g.y1) list.push_back(i);
+        if (g.visible && x / 16 >= g.x0 && x / 16 < g.x1 && y / 16 >= g.y0 && y / 16 < g.y1)
+          list.push_back(i);
       }
-      std::stable_sort(list.begin(), list.end(), [&](size_t a, size_t b) { return float(base[a].depth) < float(base[b].depth); });
+      std::stable_sort(list.begin(), list.end(), [&](size_t a, size_t b) {
+        return float(base[a].depth) < float(base[b].depth);
+      });
       double T = 1;
       for (size_t i : list) {
         auto G_of = [&](const Projected& g) {
@@ -193,7 +208,8 @@ std::vector<double> instance_maps_frozen_T(const Params& frozen, const Params& p
         const double alpha = std::min(0.99, base[i].opacity * std::exp(power));
         if (alpha < 1.0 / 255) continue;
         if (T * (1 - alpha) < 1e-4) break;
-        const double alpha_star = std::min(0.99, moved[i].instance_opacity * std::exp(G_of(moved[i])));
+        const double alpha_star =
+            std::min(0.99, moved[i].instance_opacity * std::exp(G_of(moved[i])));
         for (size_t m = 0; m < labels.size(); ++m)
           if (labels[m] == base[i].label) maps[m * pixels + size_t(y) * W + x] += alpha_star * T;
         T *= 1 - alpha;

@@ -21,11 +21,16 @@ using testing_scenes::test_camera;
 
 // The analytic gradient arrays, in the order of reference::Params::arrays().
 std::vector<const std::vector<float>*> gradient_arrays(const GaussianGradients& g) {
-  return {&g.means, &g.sh_dc, &g.sh_rest, &g.opacity_logits, &g.log_scales, &g.rotations,
+  return {&g.means,
+          &g.sh_dc,
+          &g.sh_rest,
+          &g.opacity_logits,
+          &g.log_scales,
+          &g.rotations,
           &g.instance_opacity_logits};
 }
-const char* kArrayNames[] = {"means", "sh_dc", "sh_rest", "opacity", "log_scales", "rotations",
-                             "instance_opacity"};
+const char* kArrayNames[] = {"means",      "sh_dc",     "sh_rest",         "opacity",
+                             "log_scales", "rotations", "instance_opacity"};
 
 // Central differences of loss(params) for every parameter, compared with the
 // analytic gradient array by array.
@@ -62,8 +67,8 @@ void check_gradients(const reference::Params& base, const GaussianGradients& ana
       const double an = (*grads[a])[k];
       if (std::abs(an - fd[k]) > 2e-3 * scale + 1e-2 * std::abs(fd[k]) + 1e-6) {
         if (++bad <= 5)
-          ADD_FAILURE() << kArrayNames[a] << "[" << k << "]: analytic " << an << " vs finite difference " << fd[k]
-                        << " (array scale " << scale << ")";
+          ADD_FAILURE() << kArrayNames[a] << "[" << k << "]: analytic " << an
+                        << " vs finite difference " << fd[k] << " (array scale " << scale << ")";
       }
     }
     EXPECT_EQ(bad, 0u) << kArrayNames[a];
@@ -110,10 +115,12 @@ TEST_P(GradientsMatchFiniteDifferences, ColourAlphaAndDepthLoss) {
   std::unique_ptr<RenderState> state;
   renderer.render(m, cam, s, &state);
   const GaussianGradients analytic = renderer.backward(m, cam, s, *state, g);
-  check_gradients(reference::Params::from(m), analytic, [&](const reference::Params& p) {
-    const reference::Output o = reference::render(p, cam, s);
-    return dot(g.color, o.color) + dot(g.alpha, o.alpha) + dot(g.depth, o.depth);
-  }, {"instance_opacity"});
+  check_gradients(reference::Params::from(m), analytic,
+                  [&](const reference::Params& p) {
+                    const reference::Output o = reference::render(p, cam, s);
+                    return dot(g.color, o.color) + dot(g.alpha, o.alpha) + dot(g.depth, o.depth);
+                  },
+                  {"instance_opacity"});
 }
 
 TEST_P(GradientsMatchFiniteDifferences, ObjectLossWithTransmittanceHeld) {
@@ -129,9 +136,11 @@ TEST_P(GradientsMatchFiniteDifferences, ObjectLossWithTransmittanceHeld) {
   renderer.render(m, cam, s, &state);
   const GaussianGradients analytic = renderer.backward(m, cam, s, *state, g);
   const reference::Params base = reference::Params::from(m);
-  check_gradients(base, analytic, [&](const reference::Params& p) {
-    return dot(g.instance_maps, reference::instance_maps_frozen_T(base, p, cam, s));
-  }, {"sh_dc", "sh_rest", "opacity"});
+  check_gradients(base, analytic,
+                  [&](const reference::Params& p) {
+                    return dot(g.instance_maps, reference::instance_maps_frozen_T(base, p, cam, s));
+                  },
+                  {"sh_dc", "sh_rest", "opacity"});
 }
 
 INSTANTIATE_TEST_SUITE_P(Seeds, GradientsMatchFiniteDifferences, ::testing::Values(11u, 12u, 13u));
@@ -154,7 +163,8 @@ TEST(RendererBackward, ObjectLossNeverReachesOpacityOrColour) {
     for (int c = 0; c < 3; ++c) ASSERT_EQ(grads.sh_dc[3 * i + c], 0.f);
     for (int k = 0; k < 45; ++k) ASSERT_EQ(grads.sh_rest[45 * i + k], 0.f);
     star += std::abs(grads.instance_opacity_logits[i]);
-    for (int k = 0; k < 3; ++k) geometry += std::abs(grads.means[3 * i + k]) + std::abs(grads.log_scales[3 * i + k]);
+    for (int k = 0; k < 3; ++k)
+      geometry += std::abs(grads.means[3 * i + k]) + std::abs(grads.log_scales[3 * i + k]);
     // Gaussians of unselected labels get no sigma* gradient.
     if (m.labels[i] == 0 || m.labels[i] == 3) ASSERT_EQ(grads.instance_opacity_logits[i], 0.f);
   }

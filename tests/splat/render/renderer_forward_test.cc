@@ -14,7 +14,8 @@ using testing_scenes::random_scene;
 using testing_scenes::test_camera;
 
 // |fast - ref| <= 1e-5 relative, with a floor of 1e-5 for values near zero.
-void expect_close(const std::vector<float>& fast, const std::vector<double>& ref, const char* what) {
+void expect_close(const std::vector<float>& fast, const std::vector<double>& ref,
+                  const char* what) {
   ASSERT_EQ(fast.size(), ref.size()) << what;
   double worst = 0;
   size_t where = 0;
@@ -25,7 +26,8 @@ void expect_close(const std::vector<float>& fast, const std::vector<double>& ref
   EXPECT_LE(worst, 1e-5) << what << " at " << where << ": " << fast[where] << " vs " << ref[where];
 }
 
-void expect_same_labels(const std::vector<int32_t>& fast, const std::vector<int>& ref, const char* what) {
+void expect_same_labels(const std::vector<int32_t>& fast, const std::vector<int>& ref,
+                        const char* what) {
   ASSERT_EQ(fast.size(), ref.size()) << what;
   size_t differ = 0;
   for (size_t i = 0; i < ref.size(); ++i) differ += fast[i] != ref[i];

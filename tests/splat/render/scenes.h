@@ -11,7 +11,8 @@
 namespace splat::testing_scenes {
 
 inline Camera test_camera(int w = 64, int h = 48) {
-  return Camera::look_at({0.3, -0.2, -4}, {0, 0, 0}, Eigen::Vector3d::UnitY(), w, h, 0.9 * w, 0.95 * w);
+  return Camera::look_at({0.3, -0.2, -4}, {0, 0, 0}, Eigen::Vector3d::UnitY(), w, h, 0.9 * w,
+                         0.95 * w);
 }
 
 // n Gaussians in front of test_camera, labels 0..labels.
@@ -34,8 +35,8 @@ inline GaussianModel random_scene(size_t n, unsigned seed, int labels = 4, bool 
     m.labels[i] = int32_t(i % (labels + 1));
   }
   if (edge_cases && n >= 4) {
-    m.means[0] = 0.2f, m.means[1] = 0.f, m.means[2] = -4.5f;  // behind the camera
-    m.means[3] = 1.9f, m.means[4] = 0.2f, m.means[5] = 0.f;   // across the right border
+    m.means[0] = 0.2f, m.means[1] = 0.f, m.means[2] = -4.5f;      // behind the camera
+    m.means[3] = 1.9f, m.means[4] = 0.2f, m.means[5] = 0.f;       // across the right border
     m.log_scales[6] = m.log_scales[7] = m.log_scales[8] = -12.f;  // degenerate (near-zero) scale
     m.means[9] = -0.1f, m.means[10] = 0.f, m.means[11] = -3.85f;  // close to the near plane
   }

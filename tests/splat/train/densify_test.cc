@@ -82,7 +82,8 @@ TEST(Densify, ResetOpacityCapsAt001) {
 }
 
 TEST(Initialize, FromPointsAsTheReference) {
-  const std::vector<Eigen::Vector3d> pts = {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, 3}, {10, 10, 10}};
+  const std::vector<Eigen::Vector3d> pts = {
+      {0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, 3}, {10, 10, 10}};
   const std::vector<Eigen::Vector3f> cols(5, Eigen::Vector3f(1.f, 0.5f, 0.f));
   const std::vector<double> d2 = mean_squared_knn_distance(pts);
   EXPECT_NEAR(d2[0], (1 + 4 + 9) / 3.0, 1e-12);

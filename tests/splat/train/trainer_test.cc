@@ -22,7 +22,8 @@ using testing_util::TempDir;
 // A 16-view 96x72 scene; generated once for the whole suite.
 const fs::path& tiny_scene() {
   static const fs::path dir = [] {
-    const fs::path d = fs::temp_directory_path() / ("op2gs_trainer_scene_" + std::to_string(::getpid()));
+    const fs::path d =
+        fs::temp_directory_path() / ("op2gs_trainer_scene_" + std::to_string(::getpid()));
     synth::SynthOptions o;
     o.views = 16;
     o.width = 96;
@@ -57,7 +58,8 @@ TEST(Trainer, TestPsnrRisesWellAboveTheStart) {
   ASSERT_EQ(t.split().test.size(), 2u);  // views 0 and 8
   const double before = mean_test_psnr(t);
   size_t densified = 0;
-  t.train_until(400, [&](const IterationStats& s) { densified += s.densified.cloned + s.densified.split; });
+  t.train_until(
+      400, [&](const IterationStats& s) { densified += s.densified.cloned + s.densified.split; });
   const double after = mean_test_psnr(t);
   EXPECT_GT(after, before + 5.0) << "before " << before << " dB, after " << after << " dB";
   EXPECT_GT(densified, 0u);
@@ -78,7 +80,8 @@ TEST(Trainer, ResumeGivesTheSameParametersAsAnUninterruptedRun) {
   resumed.load_checkpoint(dir / "ckpt");
   EXPECT_EQ(resumed.iteration(), 170);
   resumed.train_until(260);
-  EXPECT_TRUE(resumed.model() == straight.model()) << "resumed run differs from the uninterrupted one";
+  EXPECT_TRUE(resumed.model() == straight.model())
+      << "resumed run differs from the uninterrupted one";
 }
 
 TEST(Trainer, SameSeedSameModel) {
