@@ -1,6 +1,5 @@
 #include "splat/scene.h"
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -18,13 +17,6 @@ void SceneOptions::Check() const {
     throw std::invalid_argument(fmt::format("downscale must be 1, 2, 4 or 8, not {}", downscale));
   if (max_width < 0) throw std::invalid_argument("max_width must be >= 0");
   if (cache_bytes == 0) throw std::invalid_argument("cache_bytes must be > 0");
-}
-
-std::pair<int, int> image_size(const fs::path& file) {
-  if (!fs::exists(file)) throw InputError(file, "image file does not exist");
-  auto in = OIIO::ImageInput::open(file.string());
-  if (!in) throw InputError(file, "cannot read image: " + OIIO::geterror());
-  return {in->spec().width, in->spec().height};
 }
 
 namespace {

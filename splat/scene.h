@@ -68,7 +68,4 @@ class Scene {
   std::unique_ptr<ViewCache> cache_;
 };
 
-// Image size of the file without decoding its pixels.
-std::pair<int, int> image_size(const std::filesystem::path& file);
-
 }  // namespace splat

@@ -115,8 +115,7 @@ void evaluate_color(const GaussianModel& m, size_t i, const Vec3& dir, int degre
 }
 
 // Projects Gaussian i; returns false when it is culled.
-bool project_one(const GaussianModel& m, const View& v, const Camera& cam, size_t i,
-                 ProjectedGaussians& p) {
+bool project_one(const GaussianModel& m, const View& v, size_t i, ProjectedGaussians& p) {
   const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
   const Vec3 pv = v.R * mean + v.t;
   if (!(pv.z() > kNearPlane)) return false;
@@ -164,7 +163,6 @@ bool project_one(const GaussianModel& m, const View& v, const Camera& cam, size_
   r[0] = x0, r[1] = y0, r[2] = x1, r[3] = y1;
   p.opacity[i] = sigma;
   p.instance_opacity[i] = m.has_instance_opacity ? sigmoid(m.instance_opacity_logits[i]) : sigma;
-  (void)cam;
   return true;
 }
 
@@ -188,7 +186,7 @@ void project_gaussians(const GaussianModel& m, const Camera& cam, const RenderSe
   const View v(cam);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& range) {
     for (size_t i = range.begin(); i < range.end(); ++i) {
-      if (!project_one(m, v, cam, i, p)) continue;
+      if (!project_one(m, v, i, p)) continue;
       if (s.color) {
         const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
         evaluate_color(m, i, (mean - v.center).normalized(), s.sh_degree, &p.color[3 * i],

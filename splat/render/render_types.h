@@ -37,7 +37,6 @@ struct RenderSettings {
   // Ablation baseline: label of the Gaussian with the largest alpha_i T_i.
   bool baseline_label_map = false;
 
-  bool wants_instance_maps() const { return all_instance_labels || !instance_labels.empty(); }
 };
 
 struct RenderOutput {
