@@ -41,7 +41,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--max-screen-radius", o.train.densify.max_screen_radius,
                  "prune Gaussians larger than this on screen (pixels) after the first opacity "
-                 "reset; 0 turns it off")
+                 "reset (the spec's rule is 20); 0, the default, never does, as the reference "
+                 "implementation in effect does")
       ->capture_default_str();
   app.add_option("--cache-mb", cache_mb, "decoded images kept in memory, MiB")
       ->capture_default_str();

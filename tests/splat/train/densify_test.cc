@@ -69,9 +69,23 @@ TEST(Densify, LargeOnScreenOrInWorldArePrunedAfterFirstReset) {
   f.stats.max_radius = {25.f, 1.f, 1.f};  // 0 is too large on screen
   std::mt19937_64 rng(1);
   // Gaussian 1 is 0.5 > 0.1 * extent (extent 1): too large in the world.
-  const DensifyResult r = densify_and_prune(f.m, f.adam, f.stats, 1.0, /*prune_large=*/true, rng);
+  DensifyOptions spec_rule;
+  spec_rule.max_screen_radius = 20.f;
+  const DensifyResult r =
+      densify_and_prune(f.m, f.adam, f.stats, 1.0, /*prune_large=*/true, rng, spec_rule);
   EXPECT_EQ(r.pruned, 3u);
   EXPECT_EQ(f.m.size(), 0u);
+}
+
+TEST(Densify, ByDefaultNoScreenSizePruningAsTheReferenceDoes) {
+  Fixture f;
+  f.stats.grad_accum = {0, 0, 0};
+  f.stats.max_radius = {25.f, 1.f, 1.f};
+  std::mt19937_64 rng(1);
+  const DensifyResult r = densify_and_prune(f.m, f.adam, f.stats, 1.0, true, rng);
+  EXPECT_EQ(r.pruned, 2u) << "the transparent one and the one too large in the world";
+  ASSERT_EQ(f.m.size(), 1u);
+  EXPECT_EQ(f.m.labels[0], 7);
 }
 
 TEST(Densify, ResetOpacityCapsAt001) {
