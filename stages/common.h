@@ -10,6 +10,7 @@
 #include <functional>
 
 #include "splat/error.h"
+#include "splat/train/trainer.h"
 
 namespace stages {
 
@@ -18,6 +19,15 @@ inline double peak_rss_mib() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+// The --split option of the stages that read a scene's train/test split.
+inline splat::SplitRule parse_split(const std::string& name) {
+  if (name == "auto") return splat::SplitRule::kAuto;
+  if (name == "lerf") return splat::SplitRule::kLerfMask;
+  if (name == "every8") return splat::SplitRule::kEvery8;
+  if (name == "all") return splat::SplitRule::kAll;
+  throw std::invalid_argument("--split must be auto, lerf, every8 or all");
 }
 
 // Parses the command line and runs body; returns the process exit code:

@@ -53,13 +53,7 @@ int main(int argc, char** argv) {
     o.train.scene.downscale = resolution;
     o.train.scene.cache_bytes = size_t(cache_mb * (1 << 20));
     if (!background.empty()) std::copy_n(background.begin(), 3, o.train.background);
-    const std::map<std::string, splat::SplitRule> rules = {{"auto", splat::SplitRule::kAuto},
-                                                           {"lerf", splat::SplitRule::kLerfMask},
-                                                           {"every8", splat::SplitRule::kEvery8},
-                                                           {"all", splat::SplitRule::kAll}};
-    if (!rules.count(split))
-      throw std::invalid_argument("--split must be auto, lerf, every8 or all");
-    o.train.split = rules.at(split);
+    o.train.split = stages::parse_split(split);
     const splat::TrainRunResult r = splat::run_training(scene, work, o);
     spdlog::info("iteration {}: {} Gaussians, {:.1f} s", r.iteration, r.gaussians, r.seconds);
     if (r.test_views)

@@ -228,17 +228,39 @@ void Trainer::save_checkpoint(const fs::path& file) const {
   write_text_atomically(file, out.str());
 }
 
-void Trainer::load_checkpoint(const fs::path& file) {
-  std::istringstream in(read_text_file(file), std::ios::binary);
+namespace {
+// Reads the header and the model; leaves `in` at the optimiser state.
+CheckpointModel read_checkpoint_head(std::istream& in, const fs::path& file) {
   char magic[8];
   if (!in.read(magic, 8) || !std::equal(magic, magic + 8, kMagic))
     throw InputError(file, "not an op2gs checkpoint");
+  if (read_pod<uint32_t>(in) != kVersion) throw InputError(file, "unsupported checkpoint version");
+  CheckpointModel c;
+  c.iteration = read_pod<int32_t>(in);
+  c.sh_degree = read_pod<int32_t>(in);
+  c.model = read_model(in);
+  return c;
+}
+}  // namespace
+
+CheckpointModel read_checkpoint_model(const fs::path& file) {
+  std::istringstream in(read_text_file(file), std::ios::binary);
   try {
-    if (read_pod<uint32_t>(in) != kVersion)
-      throw InputError(file, "unsupported checkpoint version");
-    iteration_ = read_pod<int32_t>(in);
-    sh_degree_ = read_pod<int32_t>(in);
-    model_ = read_model(in);
+    return read_checkpoint_head(in, file);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(file, std::string("corrupt checkpoint: ") + e.what());
+  }
+}
+
+void Trainer::load_checkpoint(const fs::path& file) {
+  std::istringstream in(read_text_file(file), std::ios::binary);
+  try {
+    CheckpointModel head = read_checkpoint_head(in, file);
+    iteration_ = head.iteration;
+    sh_degree_ = head.sh_degree;
+    model_ = std::move(head.model);
     adam_.load(in);
     stats_.load(in);
     const std::vector<char> rng_state = read_vector<char>(in);

@@ -90,6 +90,15 @@ class TrainingDiverged : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The model stored in a checkpoint, with the iteration and active SH degree
+// it was saved at (for the stages after training, which need no optimiser).
+struct CheckpointModel {
+  GaussianModel model;
+  int iteration = 0;
+  int sh_degree = 0;
+};
+CheckpointModel read_checkpoint_model(const std::filesystem::path& file);
+
 class Trainer {
  public:
   // Loads the scene (lazily) and splits its views.

@@ -1,0 +1,111 @@
+#include "eval/metrics/lerf_mask.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "splat/error.h"
+
+namespace eval {
+namespace fs = std::filesystem;
+
+LerfMaskGroundTruth read_lerf_mask_ground_truth(const fs::path& scene) {
+  const fs::path masks = scene / "test_mask";
+  if (!fs::is_directory(masks)) throw splat::InputError(masks, "no test_mask/ folder");
+  LerfMaskGroundTruth gt;
+  std::set<std::string> train;
+  if (fs::is_directory(scene / "images_train"))
+    for (const auto& f : fs::directory_iterator(scene / "images_train"))
+      train.insert(f.path().filename().string());
+  for (const auto& f : fs::directory_iterator(scene / "images"))
+    if (f.is_regular_file() && !train.count(f.path().filename().string()))
+      gt.test_views.push_back(f.path().filename().string());
+  std::sort(gt.test_views.begin(), gt.test_views.end());
+  gt.masks.resize(gt.test_views.size());
+  std::set<std::string> queries;
+  for (const auto& dir : fs::directory_iterator(masks)) {
+    if (!dir.is_directory()) continue;
+    const std::string name = dir.path().filename().string();
+    size_t k = 0;
+    try {
+      size_t used = 0;
+      k = std::stoul(name, &used);
+      if (used != name.size()) throw std::invalid_argument(name);
+    } catch (const std::exception&) {
+      throw splat::InputError(dir.path(), "test_mask/ folders must be test view indices");
+    }
+    if (k >= gt.test_views.size())
+      throw splat::InputError(dir.path(), "no test view with this index (the scene has " +
+                                              std::to_string(gt.test_views.size()) + ")");
+    for (const auto& f : fs::directory_iterator(dir.path())) {
+      if (f.path().extension() != ".png") continue;
+      const std::string query = f.path().stem().string();
+      gt.masks[k][query] = f.path();
+      queries.insert(query);
+    }
+  }
+  gt.queries.assign(queries.begin(), queries.end());
+  return gt;
+}
+
+ObjectMasks masks_from_label_map(const std::vector<int32_t>& labels, int width, int height) {
+  ObjectMasks masks;
+  for (size_t p = 0; p < labels.size(); ++p) {
+    if (labels[p] <= 0) continue;
+    auto it = masks.find(labels[p]);
+    if (it == masks.end()) it = masks.emplace(labels[p], Mask(width, height)).first;
+    it->second.on[p] = 1;
+  }
+  return masks;
+}
+
+SceneScore score_oracle(const LerfMaskGroundTruth& gt,
+                        const std::function<ObjectMasks(size_t k)>& masks_of) {
+  std::map<size_t, ObjectMasks> predictions;  // loaded once per view
+  auto predicted = [&](size_t k) -> const ObjectMasks& {
+    auto it = predictions.find(k);
+    if (it == predictions.end()) it = predictions.emplace(k, masks_of(k)).first;
+    return it->second;
+  };
+  auto object_mask = [&](size_t k, int32_t id, int w, int h) {
+    const ObjectMasks& m = predicted(k);
+    const auto it = m.find(id);
+    return it == m.end() ? Mask(w, h) : resize_mask_nearest(it->second, w, h);
+  };
+  SceneScore scene;
+  for (const std::string& query : gt.queries) {
+    QueryScore q;
+    q.query = query;
+    for (size_t k = 0; k < gt.masks.size(); ++k) {
+      const auto f = gt.masks[k].find(query);
+      if (f == gt.masks[k].end()) continue;
+      const Mask truth = read_mask(f->second);
+      if (q.object < 0) {  // the oracle's choice, on the first view with ground truth
+        double best = -1;
+        for (const auto& [id, _] : predicted(k)) {
+          const double iou = mask_iou(truth, object_mask(k, id, truth.width, truth.height));
+          if (iou > best) best = iou, q.object = id;
+        }
+        if (q.object < 0) q.object = 0;  // nothing predicted at all
+      }
+      const Mask pred = object_mask(k, q.object, truth.width, truth.height);
+      q.views.push_back(k);
+      q.iou.push_back(mask_iou(truth, pred));
+      q.biou.push_back(boundary_iou(truth, pred));
+    }
+    if (q.views.empty()) continue;
+    for (size_t i = 0; i < q.views.size(); ++i) q.mean_iou += q.iou[i], q.mean_biou += q.biou[i];
+    q.mean_iou /= double(q.views.size());
+    q.mean_biou /= double(q.views.size());
+    scene.miou += q.mean_iou;
+    scene.mbiou += q.mean_biou;
+    scene.queries.push_back(q);
+  }
+  const double n = double(scene.queries.size());
+  scene.miou = n ? scene.miou / n : std::numeric_limits<double>::quiet_NaN();
+  scene.mbiou = n ? scene.mbiou / n : std::numeric_limits<double>::quiet_NaN();
+  return scene;
+}
+
+}  // namespace eval

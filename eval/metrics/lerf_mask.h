@@ -1,0 +1,57 @@
+#pragma once
+// The LERF-Mask benchmark layout and its scoring (../shared/spec/evaluation.md):
+// test views are the images of images/ that are not in images_train/, sorted
+// by name; test_mask/<k>/<query>.png is the ground truth of query <query> in
+// the k-th test view (some k may be missing).
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "eval/metrics/mask_metrics.h"
+
+namespace eval {
+
+struct LerfMaskGroundTruth {
+  std::vector<std::string> test_views;  // image names, sorted; index k
+  std::vector<std::string> queries;     // sorted names (file stems)
+  // masks[k][query] = file, for the pairs that exist.
+  std::vector<std::map<std::string, std::filesystem::path>> masks;
+};
+
+// Reads the layout of a scene folder. Throws splat::InputError when there is
+// no test_mask/ folder or a folder in it is not a test view index.
+LerfMaskGroundTruth read_lerf_mask_ground_truth(const std::filesystem::path& scene);
+
+struct QueryScore {
+  std::string query;
+  int32_t object = -1;        // the object ID whose masks were scored
+  std::vector<size_t> views;  // k of the scored views
+  std::vector<double> iou, biou;
+  double mean_iou = 0, mean_biou = 0;  // NaN if any view's union was empty
+};
+
+struct SceneScore {
+  std::vector<QueryScore> queries;
+  double miou = 0, mbiou = 0;  // mean over queries, in [0, 1]
+};
+
+// Predicted object masks of one test view, by object ID.
+using ObjectMasks = std::map<int32_t, Mask>;
+
+// Oracle mode: for each query, the object whose mask has the highest IoU on
+// the first test view where the query has ground truth (ties: smaller ID);
+// that object's masks are scored on every view with ground truth. masks_of(k)
+// gives the predictions of test view k (any size: resized to the ground
+// truth's with the nearest-neighbour rule). An object missing from a view's
+// predictions has an empty mask there.
+SceneScore score_oracle(const LerfMaskGroundTruth& gt,
+                        const std::function<ObjectMasks(size_t k)>& masks_of);
+
+// Masks of every label of a label map (label 0 is background, not an object).
+ObjectMasks masks_from_label_map(const std::vector<int32_t>& labels, int width, int height);
+
+}  // namespace eval

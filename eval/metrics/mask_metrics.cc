@@ -1,0 +1,108 @@
+#include "eval/metrics/mask_metrics.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "splat/error.h"
+#include "splat/label/id_maps.h"
+
+namespace eval {
+namespace fs = std::filesystem;
+
+size_t Mask::count() const {
+  size_t n = 0;
+  for (uint8_t v : on) n += v;
+  return n;
+}
+
+Mask read_mask(const fs::path& file) {
+  auto in = OIIO::ImageInput::open(file.string());
+  if (!in) throw splat::InputError(file, "cannot read the mask: " + OIIO::geterror());
+  const OIIO::ImageSpec spec = in->spec();
+  const int channels = spec.nchannels;
+  const bool sixteen = spec.format.basetype == OIIO::TypeDesc::UINT16;
+  std::vector<uint16_t> px(size_t(spec.width) * spec.height * channels);
+  // Read in the file's own scale (8 or 16 bit) so that the luma and clipping
+  // below match Pillow's integer arithmetic.
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT16, px.data()))
+    throw splat::InputError(file, "cannot decode the mask: " + in->geterror());
+  Mask m(spec.width, spec.height);
+  for (size_t p = 0; p < m.on.size(); ++p) {
+    const uint16_t* c = &px[p * channels];
+    int value;
+    if (channels >= 3) {
+      // OpenImageIO scaled 8-bit values by 257; Pillow's L = (19595 R +
+      // 38470 G + 7471 B + 0x8000) >> 16 on the 8-bit values.
+      const auto v8 = [&](int k) { return sixteen ? std::min(c[k], uint16_t(255)) : c[k] / 257; };
+      value = (19595 * v8(0) + 38470 * v8(1) + 7471 * v8(2) + 0x8000) >> 16;
+    } else {
+      value = sixteen ? std::min<int>(c[0], 255) : c[0] / 257;
+    }
+    m.on[p] = value > 128;
+  }
+  return m;
+}
+
+Mask resize_mask_nearest(const Mask& mask, int width, int height) {
+  if (mask.width == width && mask.height == height) return mask;
+  splat::IdMap ids(mask.width, mask.height);
+  std::copy(mask.on.begin(), mask.on.end(), ids.ids.begin());
+  const splat::IdMap r = splat::resize_id_map_nearest(ids, width, height);
+  Mask out(width, height);
+  std::copy(r.ids.begin(), r.ids.end(), out.on.begin());
+  return out;
+}
+
+double mask_iou(const Mask& gt, const Mask& pred) {
+  if (gt.width != pred.width || gt.height != pred.height)
+    throw std::invalid_argument("mask_iou: masks differ in size");
+  size_t inter = 0, uni = 0;
+  for (size_t p = 0; p < gt.on.size(); ++p) {
+    inter += gt.on[p] & pred.on[p];
+    uni += gt.on[p] | pred.on[p];
+  }
+  return uni ? double(inter) / double(uni) : std::numeric_limits<double>::quiet_NaN();
+}
+
+int boundary_width(int width, int height, double ratio) {
+  const double diagonal = std::sqrt(double(height) * height + double(width) * width);
+  return std::max(1, int(std::nearbyint(ratio * diagonal)));  // ties to even
+}
+
+namespace {
+// out[x] = 1 where in[x - d .. x + d] are all 1 (outside counts as 0), for
+// `n` values `stride` apart.
+void erode_line(const uint8_t* in, uint8_t* out, int n, size_t stride, int d,
+                std::vector<int>& prefix) {
+  prefix.assign(size_t(n) + 1, 0);
+  for (int i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + in[i * stride];
+  for (int i = 0; i < n; ++i) {
+    const int lo = i - d, hi = i + d + 1;
+    out[i * stride] = lo >= 0 && hi <= n && prefix[hi] - prefix[lo] == 2 * d + 1;
+  }
+}
+}  // namespace
+
+Mask mask_boundary(const Mask& m, int d) {
+  const int W = m.width, H = m.height;
+  Mask rows(W, H), eroded(W, H);
+  std::vector<int> prefix;
+  // A square erosion is a row erosion followed by a column erosion.
+  for (int y = 0; y < H; ++y)
+    erode_line(&m.on[size_t(y) * W], &rows.on[size_t(y) * W], W, 1, d, prefix);
+  for (int x = 0; x < W; ++x) erode_line(&rows.on[x], &eroded.on[x], H, size_t(W), d, prefix);
+  Mask boundary(W, H);
+  for (size_t p = 0; p < m.on.size(); ++p) boundary.on[p] = m.on[p] && !eroded.on[p];
+  return boundary;
+}
+
+double boundary_iou(const Mask& gt, const Mask& pred, double ratio) {
+  const int d = boundary_width(gt.width, gt.height, ratio);
+  return mask_iou(mask_boundary(gt, d), mask_boundary(pred, d));
+}
+
+}  // namespace eval

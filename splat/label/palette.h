@@ -1,0 +1,19 @@
+#pragma once
+// Colours for object labels, so that label maps and masks are images a
+// person can look at. Label 0 (background) is black; other labels get
+// distinct, stable colours (golden-ratio hue steps).
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "splat/image.h"
+
+namespace splat {
+
+std::array<float, 3> label_color(int32_t label);
+
+// A label map (W * H) as an RGB image.
+ImageRGB colorize_labels(const std::vector<int32_t>& labels, int width, int height);
+
+}  // namespace splat

@@ -1,0 +1,144 @@
+#include "splat/label/vote.h"
+
+#include <tbb/concurrent_vector.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace splat {
+
+void VoteOptions::Check() const {
+  if (!(depth_tolerance >= 0)) throw std::invalid_argument("depth tolerance must be >= 0");
+  if (!(min_surface_alpha > 0 && min_surface_alpha <= 1))
+    throw std::invalid_argument("min_surface_alpha must be in (0, 1]");
+  if (depth_max_width < 0) throw std::invalid_argument("depth_max_width must be >= 0");
+}
+
+DepthMap render_depth_map(const Renderer& renderer, const GaussianModel& model,
+                          const Camera& camera, const VoteOptions& options) {
+  Camera cam = camera;
+  if (options.depth_max_width > 0 && camera.width > options.depth_max_width) {
+    const int h = std::max(
+        1, int(std::lround(double(camera.height) * options.depth_max_width / camera.width)));
+    cam = camera.resized(options.depth_max_width, h);
+  }
+  RenderSettings settings;
+  settings.color = false;  // depth and alpha only: no SH work
+  settings.sh_degree = 0;
+  const RenderOutput out = renderer.render(model, cam, settings);
+  DepthMap map{cam.width, cam.height, std::vector<float>(out.depth.size())};
+  for (size_t p = 0; p < map.depth.size(); ++p)
+    map.depth[p] = out.alpha[p] >= options.min_surface_alpha
+                       ? out.depth[p] / out.alpha[p]
+                       : std::numeric_limits<float>::infinity();
+  return map;
+}
+
+CentreVisibility::CentreVisibility(const Camera& camera, const DepthMap* depth,
+                                   const VoteOptions& options)
+    : R_(camera.R.cast<float>()),
+      t_(camera.t.cast<float>()),
+      fx_(float(camera.fx)),
+      fy_(float(camera.fy)),
+      cx_(float(camera.cx)),
+      cy_(float(camera.cy)),
+      slack_(1.f + options.depth_tolerance),
+      width_(camera.width),
+      height_(camera.height) {
+  if (options.visibility != VoteVisibility::kDepth) return;
+  if (!depth || depth->width <= 0 || depth->height <= 0)
+    throw std::invalid_argument("depth culling needs a depth map");
+  depth_ = depth;
+  depth_sx_ = float(depth->width) / camera.width;
+  depth_sy_ = float(depth->height) / camera.height;
+}
+
+// Most Gaussians see one to three IDs over all views: three counters inline,
+// and a list on the side for the few that see more.
+struct LabelVotes::Storage {
+  static constexpr int kInline = 3;
+  struct Slot {
+    uint32_t id = 0, count = 0;
+  };
+  struct Counters {
+    std::array<Slot, kInline> slots{};
+    uint32_t overflow = 0;  // 1 + index into `more`, 0 if none
+  };
+  std::vector<Counters> counters;
+  tbb::concurrent_vector<std::vector<Slot>> more;
+
+  void add(size_t j, uint32_t id) {
+    Counters& c = counters[j];
+    for (Slot& s : c.slots) {
+      if (s.count && s.id == id) return void(++s.count);
+      if (!s.count) return void(s = {id, 1});
+    }
+    if (!c.overflow) c.overflow = uint32_t(more.emplace_back() - more.begin()) + 1;
+    std::vector<Slot>& list = more[c.overflow - 1];
+    for (Slot& s : list)
+      if (s.id == id) return void(++s.count);
+    list.push_back({id, 1});
+  }
+
+  template <typename F>
+  void for_each_slot(size_t j, F&& f) const {
+    const Counters& c = counters[j];
+    for (const Slot& s : c.slots)
+      if (s.count) f(s);
+    if (c.overflow)
+      for (const Slot& s : more[c.overflow - 1]) f(s);
+  }
+
+  Slot winner(size_t j) const {
+    Slot best;
+    for_each_slot(j, [&](const Slot& s) {
+      if (s.count > best.count || (s.count == best.count && s.id < best.id)) best = s;
+    });
+    return best;
+  }
+};
+
+LabelVotes::LabelVotes(size_t n) : storage_(std::make_unique<Storage>()) {
+  storage_->counters.resize(n);
+}
+LabelVotes::~LabelVotes() = default;
+LabelVotes::LabelVotes(LabelVotes&&) noexcept = default;
+LabelVotes& LabelVotes::operator=(LabelVotes&&) noexcept = default;
+
+size_t LabelVotes::size() const { return storage_->counters.size(); }
+
+void LabelVotes::add_view(const GaussianModel& model, const Camera& camera, const IdMap& ids,
+                          const DepthMap* depth, const VoteOptions& options) {
+  if (model.size() != size()) throw std::invalid_argument("model size differs from the votes'");
+  if (ids.width != camera.width || ids.height != camera.height)
+    throw std::invalid_argument("the ID map must have the camera's size");
+  const CentreVisibility visibility(camera, depth, options);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, size(), 16384), [&](const auto& range) {
+    int x, y;
+    float z;
+    for (size_t j = range.begin(); j < range.end(); ++j)
+      if (visibility.test(&model.means[3 * j], x, y, z)) storage_->add(j, ids.at(x, y));
+  });
+}
+
+std::vector<int32_t> LabelVotes::labels() const {
+  std::vector<int32_t> out(size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, size(), 16384), [&](const auto& range) {
+    for (size_t j = range.begin(); j < range.end(); ++j) out[j] = int32_t(storage_->winner(j).id);
+  });
+  return out;
+}
+
+uint32_t LabelVotes::votes(size_t j) const {
+  uint32_t n = 0;
+  storage_->for_each_slot(j, [&](const Storage::Slot& s) { n += s.count; });
+  return n;
+}
+
+uint32_t LabelVotes::votes_for_label(size_t j) const { return storage_->winner(j).count; }
+
+}  // namespace splat

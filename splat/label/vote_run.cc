@@ -1,0 +1,271 @@
+#include "splat/label/vote_run.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/parallel_pipeline.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "splat/atomic_file.h"
+#include "splat/error.h"
+#include "splat/label/id_maps.h"
+#include "splat/label/palette.h"
+#include "splat/ply.h"
+
+namespace splat {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+void VoteRunOptions::Check() const {
+  scene.Check();
+  vote.Check();
+  if (id_maps.empty()) throw std::invalid_argument("the ID map folder name is empty");
+  if (preview_views < 0) throw std::invalid_argument("preview_views must be >= 0");
+}
+
+CheckpointModel read_model_file(const fs::path& file) {
+  if (!fs::is_regular_file(file)) throw InputError(file, "model file not found");
+  if (file.extension() == ".ply") return {read_gaussian_ply(file), 0, kMaxShDegree};
+  return read_checkpoint_model(file);
+}
+
+namespace {
+
+// One training view, read and prepared for voting (in parallel with others).
+struct PreparedView {
+  size_t view = 0;
+  Camera camera;  // at the ID map's resolution
+  IdMap ids;
+  DepthMap depth;
+  std::vector<uint16_t> ids_present;
+};
+
+std::vector<uint16_t> distinct_ids(const IdMap& map) {
+  std::vector<uint8_t> seen(65536, 0);
+  for (uint16_t id : map.ids) seen[id] = 1;
+  std::vector<uint16_t> ids;
+  for (size_t id = 0; id < seen.size(); ++id)
+    if (seen[id]) ids.push_back(uint16_t(id));
+  return ids;
+}
+
+// Names of the IDs from <id maps>/objects.json: [{"id": 1, "name": ...}] or
+// {"1": "name"}. Anything else is ignored with a warning: names are optional.
+std::map<int, std::string> read_object_names(const fs::path& file) {
+  std::map<int, std::string> names;
+  if (!fs::exists(file)) return names;
+  try {
+    std::ifstream in(file);
+    const json j = json::parse(in);
+    if (j.is_array())
+      for (const auto& o : j) names[o.at("id").get<int>()] = o.at("name").get<std::string>();
+    else if (j.is_object())
+      for (const auto& [k, v] : j.items()) names[std::stoi(k)] = v.get<std::string>();
+  } catch (const std::exception& e) {
+    spdlog::warn("{}: object names ignored ({})", file.string(), e.what());
+    names.clear();
+  }
+  return names;
+}
+
+// Gaussian centres that vote in the view, as coloured dots over the dimmed photo.
+ImageRGB label_preview(const GaussianModel& model, const Camera& camera, const ImageRGB& photo,
+                       const DepthMap* depth, const VoteOptions& options) {
+  ImageRGB image = photo;
+  for (float& v : image.data) v *= 0.3f;
+  const CentreVisibility visibility(camera, depth, options);
+  struct Dot {
+    float z;
+    int x, y;
+    int32_t label;
+  };
+  std::vector<Dot> dots;
+  for (size_t j = 0; j < model.size(); ++j) {
+    Dot d;
+    if (visibility.test(&model.means[3 * j], d.x, d.y, d.z))
+      dots.push_back({d.z, d.x, d.y, model.labels[j]});
+  }
+  std::sort(dots.begin(), dots.end(), [](const Dot& a, const Dot& b) { return a.z > b.z; });
+  for (const Dot& d : dots) {
+    const auto c = d.label ? label_color(d.label) : std::array<float, 3>{0.5f, 0.5f, 0.5f};
+    std::copy(c.begin(), c.end(), image.pixel(d.x, d.y));
+  }
+  return image;
+}
+
+std::string stem_of(const std::string& name) { return fs::path(name).stem().string(); }
+
+// Checks that every training view has an ID map; returns the views to use.
+std::vector<size_t> views_with_maps(const Scene& scene, const std::vector<size_t>& train,
+                                    const fs::path& folder, bool allow_missing,
+                                    std::vector<std::string>& skipped) {
+  if (!fs::is_directory(folder))
+    throw InputError(folder, "no ID map folder (precomputed SAM2 masks, one PNG per image)");
+  std::vector<size_t> used;
+  for (size_t v : train) {
+    const std::string& name = scene.views()[v].name;
+    if (!find_id_map(folder, name).empty()) {
+      used.push_back(v);
+      continue;
+    }
+    if (!allow_missing)
+      throw InputError(folder / (stem_of(name) + ".png"),
+                       fmt::format("no ID map for training view {} (--allow-missing skips such "
+                                   "views)",
+                                   name));
+    spdlog::warn("no ID map for training view {}; skipped", name);
+    skipped.push_back(name);
+  }
+  if (used.empty()) throw InputError(folder, "no training view has an ID map");
+  return used;
+}
+
+json summary_json(const GaussianModel& model, const LabelVotes& votes,
+                  const std::map<int, size_t>& views_per_id,
+                  const std::map<int, std::string>& names, VoteRunResult& r) {
+  std::map<int, size_t> gaussians_per_label;
+  std::map<int, double> agreement_per_label;
+  size_t unseen = 0, voted = 0;
+  double agreement = 0;
+  for (size_t j = 0; j < model.size(); ++j) {
+    ++gaussians_per_label[model.labels[j]];
+    const uint32_t n = votes.votes(j);
+    if (!n) {
+      ++unseen;
+      continue;
+    }
+    const double a = double(votes.votes_for_label(j)) / n;
+    agreement += a, ++voted;
+    agreement_per_label[model.labels[j]] += a;
+  }
+  const double total = std::max<size_t>(model.size(), 1);
+  r.gaussians = model.size();
+  r.background_share = gaussians_per_label[0] / total;
+  r.unseen_share = unseen / total;
+  r.vote_agreement = voted ? agreement / voted : 0;
+  json objects = json::array();
+  std::map<int, bool> ids;
+  for (const auto& [id, n] : views_per_id) ids[id] = true;
+  for (const auto& [id, n] : gaussians_per_label) ids[id] = true;
+  for (const auto& [id, _] : ids) {
+    const size_t n = gaussians_per_label.count(id) ? gaussians_per_label[id] : 0;
+    if (id != 0 && n) ++r.objects;
+    json o = {{"id", id},
+              {"gaussians", n},
+              {"views", views_per_id.count(id) ? views_per_id.at(id) : 0},
+              {"vote_agreement", n ? json(agreement_per_label[id] / n) : json(nullptr)}};
+    if (names.count(id)) o["name"] = names.at(id);
+    objects.push_back(o);
+  }
+  return {{"gaussians", r.gaussians},
+          {"objects_found", r.objects},
+          {"background_share", r.background_share},
+          {"unseen_share", r.unseen_share},
+          {"vote_agreement", r.vote_agreement},
+          {"objects", objects}};
+}
+
+}  // namespace
+
+VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& work, const VoteRunOptions& o) {
+  o.Check();
+  const auto t0 = std::chrono::steady_clock::now();
+  const fs::path model_file = o.model.empty() ? work / "checkpoints" / "latest.ckpt" : o.model;
+  CheckpointModel stage_one = read_model_file(model_file);
+  GaussianModel& model = stage_one.model;
+  const auto scene = Scene::load(scene_dir, o.scene);
+  const ViewSplit split = split_views(*scene, o.split);
+  const fs::path folder = scene->root() / o.id_maps;
+  VoteRunResult result;
+  const std::vector<size_t> used =
+      views_with_maps(*scene, split.train, folder, o.allow_missing, result.views_skipped);
+  spdlog::info("{} Gaussians (iteration {}); voting over {} training views with {}/", model.size(),
+               stage_one.iteration, used.size(), o.id_maps);
+
+  const CpuRenderer renderer;
+  const bool cull = o.vote.visibility == VoteVisibility::kDepth;
+  LabelVotes votes(model.size());
+  std::map<int, size_t> views_per_id;
+  size_t next = 0;
+  // Reading a map and rendering its depth run for several views at once;
+  // votes are added one view at a time, in order.
+  tbb::parallel_pipeline(
+      4, tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
+                                        [&](tbb::flow_control& fc) -> size_t {
+                                          if (next == used.size()) fc.stop();
+                                          return next < used.size() ? used[next++] : 0;
+                                        }) &
+             tbb::make_filter<size_t, std::shared_ptr<PreparedView>>(
+                 tbb::filter_mode::parallel,
+                 [&](size_t v) {
+                   auto p = std::make_shared<PreparedView>();
+                   const View& view = scene->views()[v];
+                   const fs::path file = find_id_map(folder, view.name);
+                   p->view = v;
+                   p->ids = read_id_map(file);
+                   check_id_map_aspect(file, p->ids, view.camera.width, view.camera.height);
+                   p->camera = view.camera.resized(p->ids.width, p->ids.height);
+                   if (cull) p->depth = render_depth_map(renderer, model, p->camera, o.vote);
+                   p->ids_present = distinct_ids(p->ids);
+                   return p;
+                 }) &
+             tbb::make_filter<std::shared_ptr<PreparedView>, void>(
+                 tbb::filter_mode::serial_in_order, [&](const std::shared_ptr<PreparedView>& p) {
+                   votes.add_view(model, p->camera, p->ids, cull ? &p->depth : nullptr, o.vote);
+                   for (uint16_t id : p->ids_present) ++views_per_id[id];
+                 }));
+  result.views_used = used.size();
+  model.labels = votes.labels();
+  model.has_labels = true;
+
+  const fs::path out = work / "vote";
+  write_gaussian_ply(out / "point_cloud.ply", model);
+  json summary =
+      summary_json(model, votes, views_per_id, read_object_names(folder / "objects.json"), result);
+  summary["model"] = model_file.string();
+  summary["iteration"] = stage_one.iteration;
+  summary["id_maps"] = folder.string();
+  summary["views_used"] = result.views_used;
+  summary["views_skipped"] = result.views_skipped;
+  summary["visibility"] = cull ? "depth" : "frustum";
+  summary["depth_tolerance"] = o.vote.depth_tolerance;
+
+  // Previews over a few training views, evenly spaced.
+  const size_t previews = std::min<size_t>(o.preview_views, used.size());
+  for (size_t k = 0; k < previews; ++k) {
+    const size_t v = used[k * used.size() / previews];
+    const Camera& cam = scene->views()[v].camera;
+    const DepthMap depth = cull ? render_depth_map(renderer, model, cam, o.vote) : DepthMap{};
+    write_image_rgb(out / "preview" / (stem_of(scene->views()[v].name) + ".png"),
+                    label_preview(model, cam, *scene->image(v), cull ? &depth : nullptr, o.vote));
+  }
+
+  // The ablation's baseline label maps of the test views.
+  if (o.baseline_maps) {
+    RenderSettings settings;
+    settings.color = false;
+    settings.sh_degree = std::min(stage_one.sh_degree, kMaxShDegree);
+    settings.baseline_label_map = true;
+    for (size_t v : split.test) {
+      const View& view = scene->views()[v];
+      const RenderOutput r = renderer.render(model, view.camera, settings);
+      IdMap ids(r.width, r.height);
+      for (size_t p = 0; p < ids.ids.size(); ++p)
+        ids.ids[p] = uint16_t(std::clamp(r.baseline_label[p], 0, 65535));
+      write_id_map(out / "baseline" / (stem_of(view.name) + ".png"), ids, 16);
+      write_image_rgb(out / "baseline_color" / (stem_of(view.name) + ".png"),
+                      colorize_labels(r.baseline_label, r.width, r.height));
+    }
+    summary["baseline_views"] = split.test.size();
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  summary["seconds"] = result.seconds;
+  write_text_atomically(out / "summary.json", summary.dump(2) + "\n");
+  return result;
+}
+
+}  // namespace splat

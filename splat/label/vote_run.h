@@ -1,0 +1,57 @@
+#pragma once
+// A whole voting run, as op2gs-vote performs it: labels for every Gaussian of
+// the stage-one model from the scene's ID maps, into <work>/vote/:
+//
+//   point_cloud.ply          the model with the label property
+//   summary.json             objects found, Gaussians and views per object,
+//                            background share, vote agreement
+//   preview/<stem>.png       Gaussian centres coloured by label over a few
+//                            training views
+//   baseline/<stem>.png      the ablation's baseline label map of each test
+//                            view (16-bit IDs: label of the Gaussian with the
+//                            largest alpha_i T_i), and baseline_color/ to look at
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "splat/label/vote.h"
+#include "splat/scene.h"
+#include "splat/train/trainer.h"
+
+namespace splat {
+
+struct VoteRunOptions {
+  SceneOptions scene;  // the resolution of the baseline maps and previews
+  SplitRule split = SplitRule::kAuto;
+  // The stage-one model: a checkpoint (.ckpt) or a PLY. Empty:
+  // <work>/checkpoints/latest.ckpt.
+  std::filesystem::path model;
+  std::string id_maps = "sam2";  // folder of ID maps inside the scene
+  VoteOptions vote;
+  bool allow_missing = false;  // skip training views without an ID map (with a warning)
+  int preview_views = 3;
+  bool baseline_maps = true;  // render the baseline label maps of the test views
+
+  void Check() const;  // throws std::invalid_argument with a one-line message
+};
+
+struct VoteRunResult {
+  size_t gaussians = 0;
+  size_t views_used = 0;
+  std::vector<std::string> views_skipped;
+  size_t objects = 0;           // labels other than 0 that some Gaussian got
+  double background_share = 0;  // Gaussians labelled 0
+  double unseen_share = 0;      // Gaussians visible in no view (labelled 0)
+  double vote_agreement = 0;    // mean share of a Gaussian's votes that its label got
+  double seconds = 0;
+};
+
+VoteRunResult run_voting(const std::filesystem::path& scene_dir,
+                         const std::filesystem::path& work_dir, const VoteRunOptions& options);
+
+// The model a later stage starts from: a checkpoint (.ckpt) or a PLY. The SH
+// degree is the checkpoint's active degree, or 3 for a PLY.
+CheckpointModel read_model_file(const std::filesystem::path& file);
+
+}  // namespace splat

@@ -1,0 +1,60 @@
+// op2gs-vote: label every Gaussian of the stage-one model by majority vote of
+// the scene's ID maps (SAM2 masks), and render the ablation's baseline masks.
+
+#include <tbb/global_control.h>
+
+#include <optional>
+
+#include "splat/label/vote_run.h"
+#include "stages/common.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"Give every Gaussian an object label by majority vote of precomputed ID maps."};
+  splat::VoteRunOptions o;
+  std::string scene, work, split = "auto", visibility = "depth", model;
+  int resolution = 1, threads = 0;
+  app.add_option("scene", scene, "scene folder (images/, sparse/0/, sam2/)")->required();
+  app.add_option("work", work, "work folder of stage one; writes <work>/vote/")->required();
+  app.add_option("--model", model,
+                 "stage-one model: checkpoint or PLY (default <work>/checkpoints/latest.ckpt)");
+  app.add_option("--id-maps", o.id_maps, "ID map folder inside the scene")->capture_default_str();
+  app.add_option("--visibility", visibility,
+                 "depth: in the image and not occluded; frustum: in the image only")
+      ->capture_default_str();
+  app.add_option("--depth-tolerance", o.vote.depth_tolerance,
+                 "occluded when deeper than (1 + this) times the rendered depth")
+      ->capture_default_str();
+  app.add_option("--depth-max-width", o.vote.depth_max_width,
+                 "render the occlusion depth at most this wide (0: the ID map's size)")
+      ->capture_default_str();
+  app.add_flag("--allow-missing", o.allow_missing,
+               "skip training views without an ID map (with a warning)");
+  app.add_option("--previews", o.preview_views, "training views with a label preview")
+      ->capture_default_str();
+  app.add_option("--resolution", resolution,
+                 "downscale factor 1, 2, 4 or 8 of the baseline maps and previews")
+      ->capture_default_str();
+  app.add_option("--images", o.scene.images_dir, "image folder inside the scene")
+      ->capture_default_str();
+  app.add_option("--split", split, "train/test split: auto, lerf (images_train/), every8, all")
+      ->capture_default_str();
+  app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
+  return stages::run_stage(app, argc, argv, [&] {
+    std::optional<tbb::global_control> limit;
+    if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, threads);
+    o.scene.downscale = resolution;
+    o.model = model;
+    o.split = stages::parse_split(split);
+    if (visibility != "depth" && visibility != "frustum")
+      throw std::invalid_argument("--visibility must be depth or frustum");
+    o.vote.visibility =
+        visibility == "depth" ? splat::VoteVisibility::kDepth : splat::VoteVisibility::kFrustum;
+    const splat::VoteRunResult r = splat::run_voting(scene, work, o);
+    spdlog::info(
+        "{} Gaussians labelled from {} views: {} objects, {:.1f}% background "
+        "({:.1f}% seen in no view), vote agreement {:.1f}%, {:.1f} s",
+        r.gaussians, r.views_used, r.objects, 100 * r.background_share, 100 * r.unseen_share,
+        100 * r.vote_agreement, r.seconds);
+    spdlog::info("outputs in {}/vote", work);
+  });
+}

@@ -1,0 +1,158 @@
+// op2gs-vote's library run on a tiny synthetic scene: outputs, the summary,
+// and the errors for missing and mismatched ID maps.
+
+#include "splat/label/vote_run.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "eval/synthetic/generator.h"
+#include "splat/error.h"
+#include "splat/ply.h"
+#include "splat/train/initialize.h"
+#include "tests/test_util.h"
+
+namespace splat {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_util::TempDir;
+
+// A 16-view 96x72 scene with a model made from its sparse points (they lie
+// on the surfaces); generated once for the suite.
+const fs::path& tiny_scene() {
+  static const fs::path dir = [] {
+    const fs::path d =
+        fs::temp_directory_path() / ("op2gs_vote_scene_" + std::to_string(::getpid()));
+    synth::SynthOptions o;
+    o.views = 16;
+    o.width = 96;
+    o.height = 72;
+    o.supersample = 1;
+    o.num_points = 3000;
+    synth::generate_scene(o, d, true);
+    const auto scene = Scene::load(d, {});
+    write_gaussian_ply(d / "model.ply",
+                       initialize_from_points(scene->points(), scene->point_colors()));
+    return d;
+  }();
+  return dir;
+}
+
+nlohmann::json read_json(const fs::path& file) {
+  std::ifstream in(file);
+  return nlohmann::json::parse(in);
+}
+
+VoteRunOptions options_for(const std::string& id_maps) {
+  VoteRunOptions o;
+  o.model = tiny_scene() / "model.ply";
+  o.id_maps = id_maps;
+  return o;
+}
+
+TEST(VoteRun, WritesTheLabelledModelSummaryPreviewsAndBaselineMaps) {
+  TempDir work;
+  const VoteRunResult r = run_voting(tiny_scene(), work.path(), options_for("instance_gt"));
+  EXPECT_EQ(r.views_used, 14u);  // 16 views, every 8th is a test view
+  const GaussianModel m = read_gaussian_ply(work / "vote/point_cloud.ply");
+  ASSERT_TRUE(m.has_labels);
+  EXPECT_EQ(m.size(), r.gaussians);
+  const auto summary = read_json(work / "vote/summary.json");
+  EXPECT_EQ(summary["objects_found"].get<size_t>(), r.objects);
+  EXPECT_GE(r.objects, 8u);  // most of the scene's 10 objects have sparse points
+  EXPECT_EQ(summary["visibility"], "depth");
+  // Exact maps: a Gaussian on a surface sees the same ID from every view.
+  EXPECT_GT(r.vote_agreement, 0.9);
+  EXPECT_EQ(fs::directory_iterator(work / "vote/preview") == fs::directory_iterator(), false);
+  for (const char* view : {"frame_00000.png", "frame_00008.png"}) {
+    const IdMap baseline = read_id_map(work / "vote/baseline" / view);
+    EXPECT_EQ(baseline.width, 96);
+    EXPECT_TRUE(fs::exists(work / "vote/baseline_color" / view));
+  }
+  // Names come from the map folder's objects.json when there is one.
+  bool named = false;
+  for (const auto& o : summary["objects"]) named |= o.contains("name");
+  EXPECT_FALSE(named);  // instance_gt/ has none
+}
+
+TEST(VoteRun, CorruptedMapsAgreeLessThanExactOnes) {
+  TempDir exact, corrupted;
+  const VoteRunResult a = run_voting(tiny_scene(), exact.path(), options_for("instance_gt"));
+  const VoteRunResult b = run_voting(tiny_scene(), corrupted.path(), options_for("sam2"));
+  EXPECT_LT(b.vote_agreement, a.vote_agreement);
+  const auto summary = read_json(corrupted / "vote/summary.json");
+  bool named = false;
+  for (const auto& o : summary["objects"]) named |= o.contains("name");
+  EXPECT_TRUE(named);  // sam2/objects.json names the IDs
+}
+
+// A copy of the scene's map folder under another name, to break.
+fs::path copy_maps(const std::string& name) {
+  const fs::path dst = tiny_scene() / name;
+  fs::remove_all(dst);
+  fs::copy(tiny_scene() / "instance_gt", dst);
+  return dst;
+}
+
+TEST(VoteRun, MissingMapIsNamedUnlessAllowed) {
+  const fs::path maps = copy_maps("maps_missing");
+  fs::remove(maps / "frame_00003.png");
+  TempDir work;
+  try {
+    run_voting(tiny_scene(), work.path(), options_for("maps_missing"));
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("frame_00003"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--allow-missing"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(work / "vote/point_cloud.ply"));
+  VoteRunOptions o = options_for("maps_missing");
+  o.allow_missing = true;
+  const VoteRunResult r = run_voting(tiny_scene(), work.path(), o);
+  EXPECT_EQ(r.views_used, 13u);
+  ASSERT_EQ(r.views_skipped.size(), 1u);
+  EXPECT_EQ(r.views_skipped[0], "frame_00003.png");
+}
+
+TEST(VoteRun, MapsOfAnotherSizeAreScaledAndOtherAspectRatiosRejected) {
+  const fs::path maps = copy_maps("maps_resized");
+  // Half size, same aspect ratio: scaled with nearest-neighbour sampling.
+  for (const auto& f : fs::directory_iterator(maps)) {
+    if (f.path().extension() != ".png") continue;
+    const IdMap m = read_id_map(f.path());
+    IdMap half(48, 36);
+    for (int y = 0; y < 36; ++y)
+      for (int x = 0; x < 48; ++x) half.at(x, y) = m.at(2 * x, 2 * y);
+    write_id_map(f.path(), half, 8);
+  }
+  TempDir work;
+  EXPECT_GT(run_voting(tiny_scene(), work.path(), options_for("maps_resized")).vote_agreement,
+            0.85);
+  write_id_map(maps / "frame_00005.png", IdMap(50, 36), 8);
+  try {
+    run_voting(tiny_scene(), work.path(), options_for("maps_resized"));
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("frame_00005.png"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("aspect ratio"), std::string::npos) << e.what();
+  }
+}
+
+TEST(VoteRun, UnreadableMapIsNamed) {
+  const fs::path maps = copy_maps("maps_broken");
+  testing_util::write_file(maps / "frame_00002.png", "not a png");
+  TempDir work;
+  try {
+    run_voting(tiny_scene(), work.path(), options_for("maps_broken"));
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("frame_00002.png"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace splat
