@@ -37,18 +37,18 @@ void compact(std::vector<T>& v, size_t w, const std::vector<uint8_t>& keep) {
   v.resize(w * out);
 }
 
-void keep_gaussians(GaussianModel& m, const std::vector<uint8_t>& keep) {
-  for (int g = 0; g < kParamGroups; ++g)
-    compact(group_values(m, ParamGroup(g)), size_t(group_width(ParamGroup(g))), keep);
-  compact(m.labels, 1, keep);
-}
-
 float max_scale(const GaussianModel& m, size_t i) {
   return std::exp(
       std::max({m.log_scales[3 * i], m.log_scales[3 * i + 1], m.log_scales[3 * i + 2]}));
 }
 
 }  // namespace
+
+void keep_gaussians(GaussianModel& m, const std::vector<uint8_t>& keep) {
+  for (int g = 0; g < kParamGroups; ++g)
+    compact(group_values(m, ParamGroup(g)), size_t(group_width(ParamGroup(g))), keep);
+  compact(m.labels, 1, keep);
+}
 
 void DensificationStats::reset(size_t n) {
   grad_accum.assign(n, 0.f);

@@ -22,6 +22,8 @@ void TrainRunOptions::Check() const {
     throw std::invalid_argument(fmt::format("the stop iteration {} must be in 1..{} (the schedule)",
                                             stop_at, train.total_iterations));
   if (checkpoint_every < 1) throw std::invalid_argument("checkpoint_every must be >= 1");
+  if (!start_checkpoint.empty() && labels_model.empty())
+    throw std::invalid_argument("stage two needs the labelled model of op2gs-vote");
 }
 
 namespace {
@@ -49,6 +51,18 @@ void write_ply_at(const Trainer& t, const fs::path& work) {
       t.model());
 }
 
+// The labels of a labelled model, checked against the model they are for.
+std::vector<int32_t> read_labels(const fs::path& file, const GaussianModel& model) {
+  const GaussianModel labelled = read_gaussian_ply(file);
+  if (!labelled.has_labels)
+    throw InputError(file, "the model has no label property (run op2gs-vote)");
+  if (labelled.size() != model.size() || labelled.means != model.means)
+    throw InputError(file, fmt::format("the labels are for another model ({} Gaussians, the "
+                                       "checkpoint has {}); run op2gs-vote on this checkpoint",
+                                       labelled.size(), model.size()));
+  return labelled.labels;
+}
+
 }  // namespace
 
 TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
@@ -62,6 +76,16 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
     trainer.load_checkpoint(checkpoint);
     spdlog::info("resumed at iteration {} with {} Gaussians", trainer.iteration(),
                  trainer.model().size());
+  } else if (!o.start_checkpoint.empty()) {
+    trainer.load_checkpoint(o.start_checkpoint);
+    if (trainer.iteration() >= o.stop_at)
+      throw std::invalid_argument(
+          fmt::format("the stage-one checkpoint is at iteration {}, not "
+                      "before the stop iteration {}",
+                      trainer.iteration(), o.stop_at));
+    trainer.start_instance_learning(read_labels(o.labels_model, trainer.model()));
+    spdlog::info("stage two from iteration {} with {} Gaussians; sigma* initialised from sigma",
+                 trainer.iteration(), trainer.model().size());
   } else {
     trainer.initialize_from_sfm();
     spdlog::info("{} Gaussians from the SfM points; {} training and {} test views ({})",

@@ -21,6 +21,11 @@ struct TrainRunOptions {
   std::vector<int> ply_at;   // extra iterations with a PLY (the end always has one)
   std::vector<int> test_at;  // iterations with a test evaluation (the end always has one)
   bool resume = false;       // continue from <work>/checkpoints/latest.ckpt
+  // Stage two (op2gs-learn): start from this stage-one checkpoint, with the
+  // labels of this labelled model (op2gs-vote's PLY), instead of the SfM
+  // points.
+  std::filesystem::path start_checkpoint;
+  std::filesystem::path labels_model;
   void Check() const;
 };
 

@@ -9,6 +9,7 @@
 
 #include "splat/atomic_file.h"
 #include "splat/error.h"
+#include "splat/label/id_maps.h"
 #include "splat/train/binary_io.h"
 #include "splat/train/initialize.h"
 
@@ -26,6 +27,7 @@ void TrainOptions::Check() const {
                    lr_rotation, lr_instance_opacity})
     if (!(lr >= 0)) fail("learning rates must be >= 0");
   if (!(loss.lambda_ssim >= 0 && loss.lambda_ssim <= 1)) fail("lambda_ssim must be in [0, 1]");
+  object_loss.Check();
 }
 
 ViewSplit split_views(const Scene& scene, SplitRule rule) {
@@ -68,6 +70,44 @@ void Trainer::initialize_from_sfm() {
   view_stack_.clear();
 }
 
+void Trainer::start_instance_learning(const std::vector<int32_t>& labels) {
+  if (labels.size() != model_.size())
+    throw std::invalid_argument(
+        fmt::format("{} labels for {} Gaussians", labels.size(), model_.size()));
+  model_.labels = labels;
+  model_.has_labels = true;
+  model_.instance_opacity_logits = model_.opacity_logits;  // sigma* starts as sigma
+  model_.has_instance_opacity = true;
+  adam_.reset_moments(ParamGroup::kInstanceOpacity);
+  if (options_.object_loss.weight <= 0) return;
+  const fs::path folder = scene_->root() / options_.object_loss.id_maps;
+  for (size_t v : split_.train)
+    if (find_id_map(folder, scene_->views()[v].name).empty())
+      throw InputError(folder / (fs::path(scene_->views()[v].name).stem().string() + ".png"),
+                       "no ID map for training view " + scene_->views()[v].name);
+}
+
+bool Trainer::learns_instances() const {
+  return options_.object_loss.weight > 0 && model_.has_labels && model_.has_instance_opacity;
+}
+
+const Trainer::ObjectMap& Trainer::object_map(size_t view) {
+  if (object_maps_.size() != scene_->views().size()) object_maps_.resize(scene_->views().size());
+  if (!object_maps_[view]) {
+    const View& v = scene_->views()[view];
+    const fs::path folder = scene_->root() / options_.object_loss.id_maps;
+    const fs::path file = find_id_map(folder, v.name);
+    if (file.empty())
+      throw InputError(folder / (fs::path(v.name).stem().string() + ".png"),
+                       "no ID map for training view " + v.name);
+    auto m = std::make_unique<ObjectMap>();
+    m->ids = read_id_map_for_view(file, v.camera.width, v.camera.height);
+    m->objects = objects_in_map(m->ids);
+    object_maps_[view] = std::move(m);
+  }
+  return *object_maps_[view];
+}
+
 float Trainer::position_learning_rate(int iteration) const {
   // The reference's get_expon_lr_func: log-linear from init to final.
   const double t = std::clamp(double(iteration) / options_.total_iterations, 0.0, 1.0);
@@ -105,10 +145,20 @@ void Trainer::train_until(int until,
     const size_t view = next_view();
     const Camera& cam = scene_->views()[view].camera;
     const auto target = scene_->image(view);
-    const RenderSettings settings = render_settings();
+    RenderSettings settings = render_settings();
+    const ObjectMap* objects = learns_instances() ? &object_map(view) : nullptr;
+    if (objects) {
+      st.objects = sample_objects(objects->objects, o.object_loss.objects_per_step, rng_);
+      settings.instance_labels = st.objects;
+    }
     renderer_.render(model_, cam, settings, render_out_, &render_state_);
     st.loss = image_loss(render_out_.color, *target, o.loss, &out_grads_.color);
-    if (!std::isfinite(st.loss.total))
+    if (objects)
+      st.object_loss = object_loss(render_out_.instance_maps, render_out_.instance_map_labels,
+                                   objects->ids, o.object_loss.weight, &out_grads_.instance_maps);
+    else
+      out_grads_.instance_maps.clear();
+    if (!std::isfinite(st.loss.total) || !std::isfinite(st.object_loss))
       throw TrainingDiverged(
           fmt::format("the loss is not finite at iteration {} (view {}); "
                       "nothing was saved after the last checkpoint",
@@ -131,9 +181,14 @@ void Trainer::train_until(int until,
       }
     }
     if (it < o.total_iterations) {
-      const std::array<float, kParamGroups> lr = {st.lr_position,       o.lr_sh_dc, o.lr_sh_rest,
-                                                  o.lr_opacity,         o.lr_scale, o.lr_rotation,
-                                                  o.lr_instance_opacity};
+      const std::array<float, kParamGroups> lr = {
+          st.lr_position,
+          o.lr_sh_dc,
+          o.lr_sh_rest,
+          o.lr_opacity,
+          o.lr_scale,
+          o.lr_rotation,
+          model_.has_instance_opacity ? o.lr_instance_opacity : 0.f};
       adam_.step(model_, grads_, lr, skip, sh_degree_);
     }
     st.gaussians = model_.size();

@@ -25,6 +25,7 @@
 #include "splat/train/adam.h"
 #include "splat/train/densify.h"
 #include "splat/train/image_loss.h"
+#include "splat/train/object_loss.h"
 
 namespace splat {
 
@@ -47,8 +48,9 @@ struct TrainOptions {
   float lr_opacity = 0.05f;
   float lr_scale = 5e-3f;
   float lr_rotation = 1e-3f;
-  float lr_instance_opacity = 0.f;  // stage one does not train sigma*
+  float lr_instance_opacity = 0.05f;  // sigma*, once stage two has added it
   ImageLossOptions loss;
+  ObjectLossOptions object_loss;  // stage two: lambda_o > 0
 
   int densify_from = 500;
   int densify_until = 15000;
@@ -75,7 +77,9 @@ struct IterationStats {
   size_t gaussians = 0;
   float lr_position = 0;
   int sh_degree = 0;
-  DensifyResult densified;  // what densification did this iteration, if anything
+  double object_loss = 0;        // L_obj before its weight (stage two)
+  std::vector<int32_t> objects;  // the objects sampled for it
+  DensifyResult densified;       // what densification did this iteration, if anything
   bool opacity_reset = false;
 };
 
@@ -110,6 +114,11 @@ class Trainer {
   void load_checkpoint(const std::filesystem::path& file);
   void save_checkpoint(const std::filesystem::path& file) const;
 
+  // Stage two: gives the Gaussians their labels (one per Gaussian) and adds
+  // the instance opacity sigma*, initialised from sigma. Throws InputError if
+  // the object loss is on and a training view has no ID map.
+  void start_instance_learning(const std::vector<int32_t>& labels);
+
   // Runs iterations until `iteration() == until`; calls on_iteration after
   // each one. Throws TrainingDiverged on a non-finite loss.
   void train_until(int until, const std::function<void(const IterationStats&)>& on_iteration = {});
@@ -129,6 +138,13 @@ class Trainer {
  private:
   size_t next_view();
   RenderSettings render_settings() const;
+  bool learns_instances() const;
+  // The view's ID map at its camera's size, and the objects it shows.
+  struct ObjectMap {
+    IdMap ids;
+    std::vector<int32_t> objects;
+  };
+  const ObjectMap& object_map(size_t view);
 
   TrainOptions options_;
   std::unique_ptr<Scene> scene_;
@@ -141,6 +157,7 @@ class Trainer {
   int sh_degree_ = 0;
   std::mt19937_64 rng_;
   std::vector<size_t> view_stack_;
+  std::vector<std::unique_ptr<ObjectMap>> object_maps_;  // per view, loaded on first use
   CpuRenderer renderer_;
   // Reused from iteration to iteration.
   std::unique_ptr<RenderState> render_state_;

@@ -1,0 +1,66 @@
+#pragma once
+// What op2gs-render writes for chosen views (test views by default) or a
+// camera path, into an output folder:
+//
+//   rgb/<stem>.png                 colour
+//   masks/<stem>/<id>.png          binary mask of object id: S_id > tau (for
+//                                  the evaluation; 0 / 255)
+//   masks_color/<stem>.png         every object's mask in its colour, to look at
+//   occupancy/<stem>/<id>.png      S_id as grey (with --occupancy)
+//   objects/<stem>/<id>.png        the colour image inside the object's mask
+//                                  (with --object-images)
+//   instance_labels/<stem>.png     argmax alpha* label map (16-bit IDs), and
+//                                  instance_labels_color/
+//   baseline_labels/<stem>.png     argmax alpha_i T_i label map (the
+//                                  ablation's baseline), and baseline_labels_color/
+//   timing.json                    mask rendering against colour rendering
+//
+// and the object operations a single label per Gaussian allows: a PLY of one
+// object, or of the scene without it.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "splat/gaussians.h"
+#include "splat/scene.h"
+#include "splat/train/trainer.h"
+
+namespace splat {
+
+enum class RenderViews { kTest, kTrain, kAll };
+
+struct RenderRunOptions {
+  SceneOptions scene;
+  SplitRule split = SplitRule::kAuto;
+  RenderViews views = RenderViews::kTest;
+  std::vector<std::string> view_names;  // if not empty: these views instead
+  // A COLMAP model folder whose images are the cameras of a path to render
+  // instead of the scene's views (no image files needed).
+  std::filesystem::path camera_path;
+  std::filesystem::path model;   // checkpoint or PLY with both OP2GS properties
+  std::vector<int32_t> objects;  // only these objects (default: all)
+  float tau = 0.5f;              // mask threshold on S_j
+  bool occupancy = false;
+  bool object_images = false;
+  float background[3] = {0, 0, 0};
+  void Check() const;  // throws std::invalid_argument
+};
+
+struct RenderTiming {
+  size_t views = 0;
+  double color_ms = 0;      // mean per view: colour render
+  double masks_ms = 0;      // mean per view: all-object occupancy maps, no colour
+  double label_map_ms = 0;  // mean per view: the instance label map, no colour
+};
+
+RenderTiming run_render(const std::filesystem::path& scene_dir, const std::filesystem::path& out,
+                        const RenderRunOptions& options);
+
+// Object operations. The object is the Gaussians with its label whose
+// instance opacity sigma* is at least min_instance_opacity (stage two pushes
+// mislabelled Gaussians' sigma* towards 0; they stay with the scene).
+GaussianModel select_object(const GaussianModel& model, int32_t object, float min_instance_opacity);
+GaussianModel remove_object(const GaussianModel& model, int32_t object, float min_instance_opacity);
+
+}  // namespace splat

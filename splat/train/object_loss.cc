@@ -1,0 +1,61 @@
+#include "splat/train/object_loss.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace splat {
+
+void ObjectLossOptions::Check() const {
+  if (!(weight >= 0)) throw std::invalid_argument("the object loss weight must be >= 0");
+  if (objects_per_step < 1) throw std::invalid_argument("objects per step must be >= 1");
+  if (weight > 0 && id_maps.empty()) throw std::invalid_argument("no ID map folder given");
+}
+
+std::vector<int32_t> objects_in_map(const IdMap& ids) {
+  std::vector<uint8_t> seen(65536, 0);
+  for (uint16_t id : ids.ids) seen[id] = 1;
+  std::vector<int32_t> out;
+  for (int32_t id = 1; id < 65536; ++id)
+    if (seen[id]) out.push_back(id);
+  return out;
+}
+
+std::vector<int32_t> sample_objects(const std::vector<int32_t>& present, int m,
+                                    std::mt19937_64& rng) {
+  std::vector<int32_t> pool = present, out;
+  while (int(out.size()) < m && !pool.empty()) {
+    const size_t k = std::uniform_int_distribution<size_t>(0, pool.size() - 1)(rng);
+    out.push_back(pool[k]);
+    pool.erase(pool.begin() + long(k));
+  }
+  return out;
+}
+
+double object_loss(const std::vector<float>& maps, const std::vector<int32_t>& labels,
+                   const IdMap& ids, float weight, std::vector<float>* grad) {
+  const size_t pixels = ids.ids.size(), m = labels.size();
+  if (maps.size() != m * pixels) throw std::invalid_argument("object_loss: map sizes differ");
+  if (grad) grad->assign(maps.size(), 0.f);
+  if (m == 0) return 0;
+  constexpr double kEps = 1e-6;
+  const double scale = 1.0 / (double(m) * double(pixels));
+  double loss = 0;
+  for (size_t j = 0; j < m; ++j) {
+    const float* S = &maps[j * pixels];
+    float* g = grad ? &(*grad)[j * pixels] : nullptr;
+    double sum = 0;
+    for (size_t p = 0; p < pixels; ++p) {
+      const double b = ids.ids[p] == labels[j] ? 1.0 : 0.0;
+      const double s = std::clamp(double(S[p]), kEps, 1 - kEps);
+      sum -= b * std::log(s) + (1 - b) * std::log(1 - s);
+      // d/dS of the clamped loss: zero where the clamp is active.
+      if (g && S[p] > kEps && S[p] < 1 - kEps)
+        g[p] = float(weight * scale * (s - b) / (s * (1 - s)));
+    }
+    loss += sum;
+  }
+  return loss * scale;
+}
+
+}  // namespace splat

@@ -1,0 +1,40 @@
+#pragma once
+// The random object loss of stage two (paper, "Random Object Loss"): for M
+// object IDs sampled among those the view's ID map shows, the binary
+// cross-entropy between the occupancy map S_j and the binary mask B_j over
+// all pixels, averaged over the M objects:
+//
+//   L_obj = 1/M sum_j  mean_v  -[B_j log S_j + (1 - B_j) log(1 - S_j)].
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "splat/image.h"
+
+namespace splat {
+
+struct ObjectLossOptions {
+  float weight = 0.f;            // lambda_o (the paper: 0.1); 0 turns the loss off
+  int objects_per_step = 3;      // M
+  std::string id_maps = "sam2";  // folder of ID maps inside the scene
+  void Check() const;            // throws std::invalid_argument
+};
+
+// The object IDs (not 0) that occur in a map, ascending.
+std::vector<int32_t> objects_in_map(const IdMap& ids);
+
+// Up to m distinct IDs of `present`, uniformly without replacement.
+std::vector<int32_t> sample_objects(const std::vector<int32_t>& present, int m,
+                                    std::mt19937_64& rng);
+
+// The loss (before the weight) of the occupancy maps (one W * H plane per
+// label, in the order of `labels`) against the masks ids == label. When grad
+// is not null it receives weight * dLoss/dS, same layout. S is clamped to
+// [1e-6, 1 - 1e-6] inside the logarithms, as a safeguard like torch's
+// clamped BCE.
+double object_loss(const std::vector<float>& maps, const std::vector<int32_t>& labels,
+                   const IdMap& ids, float weight, std::vector<float>* grad);
+
+}  // namespace splat

@@ -1,0 +1,131 @@
+// The random object loss: its gradient, the sampling of objects, and the
+// paper's claim on a hand-built case.
+
+#include "splat/train/object_loss.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "splat/render/renderer.h"
+#include "splat/train/adam.h"
+#include "splat/train/image_loss.h"
+
+namespace splat {
+namespace {
+
+TEST(ObjectLoss, GradientMatchesFiniteDifferences) {
+  IdMap ids(3, 2);
+  ids.ids = {1, 1, 2, 0, 2, 1};
+  const std::vector<int32_t> labels = {1, 2};
+  std::vector<float> maps = {0.9f,  0.2f, 0.5f, 0.1f, 0.7f,  0.3f,
+                             0.05f, 0.4f, 0.8f, 0.6f, 0.35f, 0.01f};
+  std::vector<float> grad;
+  const float weight = 0.1f;
+  object_loss(maps, labels, ids, weight, &grad);
+  for (size_t i = 0; i < maps.size(); ++i) {
+    std::vector<float> plus = maps, minus = maps;
+    const float h = 1e-3f;
+    plus[i] += h, minus[i] -= h;
+    const double fd =
+        weight *
+        (object_loss(plus, labels, ids, 1, nullptr) - object_loss(minus, labels, ids, 1, nullptr)) /
+        (2 * h);
+    EXPECT_NEAR(grad[i], fd, 1e-3 * std::abs(fd) + 1e-6) << i;
+  }
+}
+
+TEST(ObjectLoss, PerfectOccupancyHasNearZeroLoss) {
+  IdMap ids(2, 1);
+  ids.ids = {3, 0};
+  const double loss = object_loss({0.999999f, 0.f}, {3}, ids, 1, nullptr);
+  EXPECT_LT(loss, 1e-5);
+}
+
+TEST(ObjectLoss, SamplesDistinctPresentObjects) {
+  IdMap ids(4, 1);
+  ids.ids = {0, 5, 2, 5};
+  EXPECT_EQ(objects_in_map(ids), (std::vector<int32_t>{2, 5}));
+  std::mt19937_64 rng(1);
+  const std::vector<int32_t> present = {1, 2, 3, 4, 5, 6};
+  for (int t = 0; t < 20; ++t) {
+    std::vector<int32_t> s = sample_objects(present, 3, rng);
+    ASSERT_EQ(s.size(), 3u);
+    std::sort(s.begin(), s.end());
+    EXPECT_EQ(std::adjacent_find(s.begin(), s.end()), s.end());
+  }
+  EXPECT_EQ(sample_objects({7}, 3, rng), (std::vector<int32_t>{7}));
+  EXPECT_TRUE(sample_objects({}, 3, rng).empty());
+}
+
+// Object 1 fills the left half of the view and object 2 the right half. A
+// floater in front of object 2 was given label 1 by voting. Training both
+// losses, the floater's sigma* falls towards zero while it keeps its opacity
+// and its share of the colour.
+TEST(ObjectLoss, MislabelledFloaterLosesInstanceOpacityButKeepsItsColour) {
+  GaussianModel m;
+  auto add = [&](Eigen::Vector3f mean, Eigen::Vector3f scale, float opacity, int32_t label,
+                 Eigen::Vector3f dc) {
+    const size_t i = m.size();
+    m.resize(i + 1);
+    for (int k = 0; k < 3; ++k) {
+      m.means[3 * i + k] = mean[k];
+      m.log_scales[3 * i + k] = std::log(scale[k]);
+      m.sh_dc[3 * i + k] = dc[k];
+    }
+    m.opacity_logits[i] = std::log(opacity / (1 - opacity));
+    m.labels[i] = label;
+  };
+  add({-1.f, 0, 4}, {1.f, 2.f, 0.05f}, 0.99f, 1, {1, 0, 0});     // object 1
+  add({1.f, 0, 4}, {1.f, 2.f, 0.05f}, 0.99f, 2, {0, 0, 1});      // object 2
+  add({0.5f, 0, 2}, {0.15f, 0.15f, 0.15f}, 0.6f, 1, {0, 1, 0});  // the floater
+  m.has_labels = true;
+  m.instance_opacity_logits = m.opacity_logits;  // sigma* starts as sigma
+  m.has_instance_opacity = true;
+
+  const Camera cam = Camera::look_at({0, 0, 0}, {0, 0, 4}, {0, -1, 0}, 48, 48, 40, 40);
+  IdMap ids(48, 48);
+  const bool object_1_left = cam.project({-1, 0, 4}).x() < 24;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 48; ++x) ids.at(x, y) = (x < 24) == object_1_left ? 1 : 2;
+  // The floater lies on object 2's side.
+  ASSERT_EQ(ids.at(int(cam.project({0.5, 0, 2}).x()), 24), 2);
+  const CpuRenderer renderer;
+  RenderSettings colour;
+  colour.sh_degree = 0;
+  const RenderOutput before = renderer.render(m, cam, colour);
+  ImageRGB target(48, 48);
+  target.data = before.color;  // the colour is already right: only sigma* should move
+  const float sigma_before = m.opacity_logits[2];
+  const Eigen::Vector2d floater_pixel = cam.project({0.5, 0, 2});
+  const size_t fp = size_t(floater_pixel.y()) * 48 + size_t(floater_pixel.x());
+
+  RenderSettings s = colour;
+  s.instance_labels = {1, 2};
+  GaussianAdam adam(m.size());
+  RenderOutputGradients out_grads;
+  for (int it = 0; it < 300; ++it) {
+    std::unique_ptr<RenderState> state;
+    const RenderOutput r = renderer.render(m, cam, s, &state);
+    image_loss(r.color, target, {}, &out_grads.color);
+    object_loss(r.instance_maps, r.instance_map_labels, ids, 0.1f, &out_grads.instance_maps);
+    const GaussianGradients g = renderer.backward(m, cam, s, *state, out_grads);
+    // The object loss alone gives sigma no gradient; the colour loss is at its minimum.
+    adam.step(m, g, {1e-4f, 2.5e-3f, 1.25e-4f, 0.05f, 5e-3f, 1e-3f, 0.05f}, {}, 0);
+  }
+  auto sigmoid = [](float x) { return 1 / (1 + std::exp(-x)); };
+  EXPECT_LT(sigmoid(m.instance_opacity_logits[2]), 0.05f);  // the floater leaves the mask
+  EXPECT_GT(sigmoid(m.instance_opacity_logits[0]), 0.9f);   // the objects stay
+  EXPECT_GT(sigmoid(m.instance_opacity_logits[1]), 0.9f);
+  EXPECT_NEAR(sigmoid(m.opacity_logits[2]), sigmoid(sigma_before), 0.02f);  // still visible
+  // Its colour (0.5 + 0.28 dc) moves by at most 0.03.
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(m.sh_dc[6 + k], k == 1 ? 1.f : 0.f, 0.1f);
+  // Geometry is shared by both losses, so the picture may shift a little,
+  // but the floater still shows.
+  const RenderOutput after = renderer.render(m, cam, colour);
+  EXPECT_GT(psnr(after.color, target.data), 30.0);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(after.color[3 * fp + k], before.color[3 * fp + k], 0.05f);
+}
+
+}  // namespace
+}  // namespace splat
