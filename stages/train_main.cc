@@ -37,7 +37,17 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--ply-at", o.ply_at, "also write a PLY at these iterations");
   app.add_option("--test-at", o.test_at, "also evaluate the test views at these iterations");
+  app.add_option("--densify-from", o.train.densify_from, "first densification iteration")
+      ->capture_default_str();
   app.add_option("--densify-until", o.train.densify_until, "last densification iteration")
+      ->capture_default_str();
+  app.add_option("--densify-every", o.train.densify_every, "iterations between densifications")
+      ->capture_default_str();
+  app.add_option("--opacity-reset-every", o.train.opacity_reset_every,
+                 "iterations between opacity resets")
+      ->capture_default_str();
+  app.add_option("--sh-increase-every", o.train.sh_increase_every,
+                 "iterations between SH degree increases")
       ->capture_default_str();
   app.add_option("--max-screen-radius", o.train.densify.max_screen_radius,
                  "prune Gaussians larger than this on screen (pixels) after the first opacity "

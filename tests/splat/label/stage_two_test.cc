@@ -1,0 +1,143 @@
+// Stage two end to end on a tiny synthetic scene: stage one, voting,
+// op2gs-learn's run (with resume), op2gs-render's outputs and the object
+// operations.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "eval/run/eval_run.h"
+#include "eval/synthetic/generator.h"
+#include "splat/error.h"
+#include "splat/label/render_run.h"
+#include "splat/label/vote_run.h"
+#include "splat/ply.h"
+#include "splat/train/train_run.h"
+#include "tests/test_util.h"
+
+namespace splat {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_util::TempDir;
+
+constexpr int kStageOne = 300;
+
+// A 16-view 96x72 scene, stage one to 300 iterations and voting; made once.
+const fs::path& stage_one_work() {
+  static const fs::path dir = [] {
+    const fs::path d =
+        fs::temp_directory_path() / ("op2gs_stage_two_" + std::to_string(::getpid()));
+    synth::SynthOptions s;
+    s.views = 16;
+    s.width = 96;
+    s.height = 72;
+    s.supersample = 1;
+    s.num_points = 3000;
+    synth::generate_scene(s, d / "scene", true);
+    TrainRunOptions t;
+    t.stop_at = kStageOne;
+    t.train.total_iterations = 1000;
+    t.train.densify_from = 100;
+    t.train.densify_every = 50;
+    run_training(d / "scene", d / "work", t);
+    run_voting(d / "scene", d / "work", VoteRunOptions{});
+    return d;
+  }();
+  return dir;
+}
+fs::path scene() { return stage_one_work() / "scene"; }
+
+TrainRunOptions learn_options(const fs::path& work, int stop_at) {
+  TrainRunOptions o;
+  o.stop_at = stop_at;
+  o.train.total_iterations = 1000;
+  o.train.densify_until = 0;
+  o.train.object_loss.weight = 0.1f;
+  o.checkpoint_every = 50;
+  o.start_checkpoint = stage_one_work() / "work/checkpoints/latest.ckpt";
+  o.labels_model = stage_one_work() / "work/vote/point_cloud.ply";
+  return o;
+}
+
+// A copy of stage one's work folder to continue in.
+fs::path fresh_work(const TempDir& dir) {
+  fs::copy(stage_one_work() / "work", dir.path(), fs::copy_options::recursive);
+  return dir.path();
+}
+
+TEST(StageTwo, LearnsSigmaStarWithTheObjectLossAndResumesExactly) {
+  TempDir a, b;
+  run_training(scene(), a / "learn", learn_options(a.path(), 400));
+  const GaussianModel m = read_gaussian_ply(a / "learn/point_cloud/iteration_400/point_cloud.ply");
+  const GaussianModel stage_one = read_gaussian_ply(stage_one_work() / "work/vote/point_cloud.ply");
+  ASSERT_TRUE(m.has_instance_opacity && m.has_labels);
+  EXPECT_EQ(m.size(), stage_one.size());  // no densification in stage two
+  EXPECT_EQ(m.labels, stage_one.labels);
+  EXPECT_NE(m.instance_opacity_logits, m.opacity_logits);  // sigma* moved away from sigma
+  std::ifstream log(a / "learn/train_log.jsonl");
+  std::string line;
+  int with_object_loss = 0;
+  while (std::getline(log, line))
+    with_object_loss += nlohmann::json::parse(line).contains("object_loss");
+  EXPECT_EQ(with_object_loss, 100);
+
+  // Stopped at 350 and resumed: the same model as the uninterrupted run.
+  run_training(scene(), b / "learn", learn_options(b.path(), 350));
+  TrainRunOptions resume = learn_options(b.path(), 400);
+  resume.resume = true;
+  run_training(scene(), b / "learn", resume);
+  EXPECT_EQ(read_gaussian_ply(b / "learn/point_cloud/iteration_400/point_cloud.ply"), m);
+}
+
+TEST(StageTwo, LabelsOfAnotherModelAreRejected) {
+  TempDir a;
+  GaussianModel other = read_gaussian_ply(stage_one_work() / "work/vote/point_cloud.ply");
+  other.means[0] += 1;
+  write_gaussian_ply(a / "other.ply", other);
+  TrainRunOptions o = learn_options(a.path(), 400);
+  o.labels_model = a / "other.ply";
+  EXPECT_THROW(run_training(scene(), a / "learn", o), InputError);
+}
+
+TEST(StageTwo, RendersMasksLabelMapsAndObjectModels) {
+  TempDir a;
+  run_training(scene(), a / "learn", learn_options(a.path(), 350));
+  RenderRunOptions r;
+  r.model = a / "learn/checkpoints/latest.ckpt";
+  r.object_images = r.occupancy = true;
+  const RenderTiming t = run_render(scene(), a / "render", r);
+  EXPECT_EQ(t.views, 2u);  // the test views 0 and 8
+  for (const char* f :
+       {"rgb/frame_00000.png", "masks_color/frame_00008.png", "instance_labels/frame_00000.png",
+        "baseline_labels_color/frame_00008.png", "timing.json"})
+    EXPECT_TRUE(fs::exists(a / "render" / f)) << f;
+  size_t masks = 0;
+  for (const auto& f : fs::directory_iterator(a / "render/masks/frame_00000")) {
+    ++masks;
+    EXPECT_TRUE(fs::exists(a / "render/occupancy/frame_00000" / f.path().filename()));
+    EXPECT_TRUE(fs::exists(a / "render/objects/frame_00000" / f.path().filename()));
+  }
+  EXPECT_GE(masks, 8u);  // one per object label
+
+  // The evaluation reads both forms of prediction.
+  eval::EvalRunOptions e;
+  e.predictions = {{"dual", a / "render/masks"}, {"baseline", a / "render/baseline_labels"}};
+  const eval::EvalRunResult scores = eval::run_evaluation(scene(), a / "metrics.json", e);
+  ASSERT_EQ(scores.scores.size(), 2u);
+  EXPECT_GT(scores.scores[0].miou, 0.3);  // a very short run, but well above chance
+  EXPECT_TRUE(fs::exists(a / "metrics.json"));
+
+  // One object, and the scene without it, partition the model.
+  const GaussianModel m = read_model_file(r.model).model;
+  const GaussianModel object = select_object(m, 1, 0.1f);
+  const GaussianModel rest = remove_object(m, 1, 0.1f);
+  EXPECT_GT(object.size(), 0u);
+  EXPECT_EQ(object.size() + rest.size(), m.size());
+  for (int32_t l : object.labels) EXPECT_EQ(l, 1);
+}
+
+}  // namespace
+}  // namespace splat
