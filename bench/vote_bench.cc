@@ -83,6 +83,7 @@ void BM_Vote(benchmark::State& state) {
   o.split = SplitRule::kAll;
   o.preview_views = 0;
   o.baseline_maps = false;
+  if (state.range(2) == 1) o.vote.visibility = VoteVisibility::kFrustum;
   for (auto _ : state) {
     const VoteRunResult r = run_voting(scene, scene / "work", o);
     state.counters["objects"] = double(r.objects);
@@ -91,8 +92,10 @@ void BM_Vote(benchmark::State& state) {
   fs::remove_all(scene);
 }
 BENCHMARK(BM_Vote)
-    ->Args({1000000, 300})
-    ->Args({200000, 60})
+    ->ArgNames({"gaussians", "views", "frustum_only"})
+    ->Args({1000000, 300, 0})
+    ->Args({1000000, 300, 1})
+    ->Args({200000, 60, 0})
     ->Unit(benchmark::kSecond)
     ->Iterations(1)
     ->UseRealTime();
