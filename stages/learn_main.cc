@@ -2,12 +2,7 @@
 // the labels of op2gs-vote, adds the instance opacity sigma* and learns it
 // with the random object loss, to iteration 30,000 by default.
 
-#include <tbb/global_control.h>
-
-#include <optional>
-
-#include "splat/train/train_run.h"
-#include "stages/common.h"
+#include "stages/training_cli.h"
 
 namespace {
 
@@ -33,20 +28,15 @@ int main(int argc, char** argv) {
   splat::TrainRunOptions o;
   o.stop_at = 30000;
   o.train.object_loss.weight = 0.1f;
-  std::string scene, work, split = "auto", checkpoint, labels;
-  int resolution = 1, threads = 0;
-  double cache_mb = 2048;
-  std::vector<float> background;
+  std::string scene, work, checkpoint, labels;
   app.add_option("scene", scene, "scene folder (images/, sparse/0/, sam2/)")->required();
   app.add_option("work", work, "work folder of stage one; writes <work>/learn/")->required();
+  stages::TrainingCli common(app, o);
   app.add_option("--checkpoint", checkpoint,
                  "stage-one checkpoint to start from (default <work>/checkpoints/latest.ckpt; "
                  "its iteration is the start step)");
   app.add_option("--labels", labels,
                  "labelled model of op2gs-vote (default <work>/vote/point_cloud.ply)");
-  app.add_option("--iterations", o.stop_at, "stop at this iteration")->capture_default_str();
-  app.add_option("--schedule", o.train.total_iterations, "length of the learning-rate schedule")
-      ->capture_default_str();
   app.add_flag("--resume", o.resume, "continue from <work>/learn/checkpoints/latest.ckpt");
   app.add_option("--lambda-o", o.train.object_loss.weight,
                  "weight of the random object loss (0: continue stage one without it)")
@@ -59,29 +49,8 @@ int main(int argc, char** argv) {
   app.add_option("--lr-instance-opacity", o.train.lr_instance_opacity,
                  "learning rate of sigma* (as a logit)")
       ->capture_default_str();
-  app.add_option("--resolution", resolution, "downscale factor 1, 2, 4 or 8 (as stage one)")
-      ->capture_default_str();
-  app.add_option("--max-width", o.train.scene.max_width, "scale images down to at most this width");
-  app.add_option("--images", o.train.scene.images_dir, "image folder inside the scene")
-      ->capture_default_str();
-  app.add_option("--split", split, "train/test split: auto, lerf (images_train/), every8, all")
-      ->capture_default_str();
-  app.add_option("--sh-degree", o.train.sh_degree, "largest SH degree")->capture_default_str();
-  app.add_option("--background", background, "background colour r g b in [0, 1]")->expected(3);
-  app.add_option("--checkpoint-every", o.checkpoint_every, "iterations between checkpoints")
-      ->capture_default_str();
-  app.add_option("--ply-at", o.ply_at, "also write a PLY at these iterations");
-  app.add_option("--test-at", o.test_at, "also evaluate the test views at these iterations");
-  app.add_option("--cache-mb", cache_mb, "decoded images kept in memory, MiB")
-      ->capture_default_str();
-  app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
   return stages::run_stage(app, argc, argv, [&] {
-    std::optional<tbb::global_control> limit;
-    if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, threads);
-    o.train.scene.downscale = resolution;
-    o.train.scene.cache_bytes = size_t(cache_mb * (1 << 20));
-    if (!background.empty()) std::copy_n(background.begin(), 3, o.train.background);
-    o.train.split = stages::parse_split(split);
+    common.apply();
     o.train.densify_until = 0;  // no densification (nor opacity reset) in stage two
     const std::filesystem::path w = work;
     o.start_checkpoint =
@@ -93,11 +62,6 @@ int main(int argc, char** argv) {
         throw splat::InputError(o.start_checkpoint, "no stage-one checkpoint (run op2gs-train)");
       warn_if_just_after_reset(o.start_checkpoint);
     }
-    const splat::TrainRunResult r = splat::run_training(scene, w / "learn", o);
-    spdlog::info("iteration {}: {} Gaussians, {:.1f} s", r.iteration, r.gaussians, r.seconds);
-    if (r.test_views)
-      spdlog::info("test views ({}): PSNR {:.2f} dB, SSIM {:.4f}", r.test_views, r.test_psnr,
-                   r.test_ssim);
-    spdlog::info("outputs in {}/learn", work);
+    stages::TrainingCli::report(splat::run_training(scene, w / "learn", o), (w / "learn").string());
   });
 }

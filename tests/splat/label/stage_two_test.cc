@@ -16,6 +16,7 @@
 #include "splat/ply.h"
 #include "splat/train/train_run.h"
 #include "tests/test_util.h"
+#include "tests/tiny_scene.h"
 
 namespace splat {
 namespace {
@@ -25,18 +26,13 @@ using testing_util::TempDir;
 
 constexpr int kStageOne = 300;
 
-// A 16-view 96x72 scene, stage one to 300 iterations and voting; made once.
+// The tiny scene, stage one to 300 iterations and voting; made once.
 const fs::path& stage_one_work() {
   static const fs::path dir = [] {
-    const fs::path d =
-        fs::temp_directory_path() / ("op2gs_stage_two_" + std::to_string(::getpid()));
-    synth::SynthOptions s;
-    s.views = 16;
-    s.width = 96;
-    s.height = 72;
-    s.supersample = 1;
-    s.num_points = 3000;
-    synth::generate_scene(s, d / "scene", true);
+    const fs::path d = testing_util::generate_tiny_scene("stage_two");
+    fs::rename(d, d.string() + "_scene");
+    fs::create_directories(d);
+    fs::rename(d.string() + "_scene", d / "scene");
     TrainRunOptions t;
     t.stop_at = kStageOne;
     t.train.total_iterations = 1000;

@@ -14,6 +14,7 @@
 #include "splat/ply.h"
 #include "splat/train/initialize.h"
 #include "tests/test_util.h"
+#include "tests/tiny_scene.h"
 
 namespace splat {
 namespace {
@@ -21,19 +22,11 @@ namespace {
 namespace fs = std::filesystem;
 using testing_util::TempDir;
 
-// A 16-view 96x72 scene with a model made from its sparse points (they lie
-// on the surfaces); generated once for the suite.
+// The tiny scene with a model made from its sparse points (they lie on the
+// surfaces); generated once for the suite.
 const fs::path& tiny_scene() {
   static const fs::path dir = [] {
-    const fs::path d =
-        fs::temp_directory_path() / ("op2gs_vote_scene_" + std::to_string(::getpid()));
-    synth::SynthOptions o;
-    o.views = 16;
-    o.width = 96;
-    o.height = 72;
-    o.supersample = 1;
-    o.num_points = 3000;
-    synth::generate_scene(o, d, true);
+    const fs::path d = testing_util::generate_tiny_scene("vote_scene");
     const auto scene = Scene::load(d, {});
     write_gaussian_ply(d / "model.ply",
                        initialize_from_points(scene->points(), scene->point_colors()));

@@ -12,6 +12,7 @@
 #include "splat/image.h"
 #include "splat/train/train_run.h"
 #include "tests/test_util.h"
+#include "tests/tiny_scene.h"
 
 namespace splat {
 namespace {
@@ -19,20 +20,9 @@ namespace {
 namespace fs = std::filesystem;
 using testing_util::TempDir;
 
-// A 16-view 96x72 scene; generated once for the whole suite.
+// The tiny scene, generated once for the whole suite.
 const fs::path& tiny_scene() {
-  static const fs::path dir = [] {
-    const fs::path d =
-        fs::temp_directory_path() / ("op2gs_trainer_scene_" + std::to_string(::getpid()));
-    synth::SynthOptions o;
-    o.views = 16;
-    o.width = 96;
-    o.height = 72;
-    o.supersample = 2;
-    o.num_points = 3000;
-    synth::generate_scene(o, d, true);
-    return d;
-  }();
+  static const fs::path dir = testing_util::generate_tiny_scene("trainer_scene");
   return dir;
 }
 

@@ -1,0 +1,33 @@
+#pragma once
+// The tiny synthetic scene of the end-to-end tests: 16 views at 96x72 (views 0
+// and 8 are the test views), 3,000 sparse points, generated into a
+// temporary folder of this process.
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+
+#include "eval/synthetic/generator.h"
+
+namespace testing_util {
+
+inline synth::SynthOptions tiny_scene_options() {
+  synth::SynthOptions o;
+  o.views = 16;
+  o.width = 96;
+  o.height = 72;
+  o.supersample = 1;
+  o.num_points = 3000;
+  return o;
+}
+
+// <temp>/op2gs_<name>_<pid>, with the tiny scene generated into it.
+inline std::filesystem::path generate_tiny_scene(const std::string& name) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("op2gs_" + name + "_" + std::to_string(::getpid()));
+  synth::generate_scene(tiny_scene_options(), dir, true);
+  return dir;
+}
+
+}  // namespace testing_util
