@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
   app.add_option("--import", import_model,
                  "import this COLMAP model folder (binary or text) instead of running SfM");
   std::string truth;
+  app.add_flag("--llff", o.llff,
+               "use the cameras of <scene>/poses_bounds.npy (3DOVS); only triangulate points");
   app.add_option("--truth", truth,
                  "true cameras (COLMAP model): report the pose accuracy after alignment");
   return stages::run_stage(app, argc, argv, [&] {

@@ -11,7 +11,7 @@
 #include <random>
 #include <set>
 
-#include "eval/synthetic/npy.h"
+#include "splat/npy.h"
 #include "eval/synthetic/raytracer.h"
 #include "splat/atomic_file.h"
 #include "splat/image.h"
@@ -206,7 +206,7 @@ void write_poses_bounds(const fs::path& file, const RenderedScene& r, const Scen
     rows.push_back(0.1);
     rows.push_back(far);
   }
-  write_npy_f64(file, rows, {r.cameras.size(), 17});
+  splat::write_npy_f64(file, rows, {r.cameras.size(), 17});
 }
 
 void write_ovs_layout(const fs::path& dir, const RenderedScene& r,

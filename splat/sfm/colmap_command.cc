@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -67,9 +68,7 @@ std::string last_lines(const fs::path& file, int lines) {
     tail.push_back(line);
     if (int(tail.size()) > lines) tail.pop_front();
   }
-  std::string out;
-  for (const std::string& l : tail) out += (out.empty() ? "" : " | ") + l;
-  return out;
+  return fmt::format("{}", fmt::join(tail, " | "));
 }
 
 void ColmapCommand::run(const std::string& step, const std::string& command,

@@ -1,6 +1,7 @@
 #include "splat/sfm/sfm_run.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -12,7 +13,10 @@
 #include "splat/atomic_file.h"
 #include "splat/colmap_model.h"
 #include "splat/error.h"
+#include "splat/image.h"
 #include "splat/sfm/alignment.h"
+#include "splat/sfm/colmap_database.h"
+#include "splat/sfm/llff.h"
 
 namespace splat {
 namespace fs = std::filesystem;
@@ -79,11 +83,8 @@ bool want_gpu(const SfmOptions& o) {
   return cuda && fs::exists("/dev/nvidia0");
 }
 
-std::string join(const std::vector<double>& v) {
-  std::string s;
-  for (double x : v) s += (s.empty() ? "" : ",") + fmt::format("{}", x);
-  return s;
-}
+// "1,2.5,3": COLMAP's list syntax for camera parameters.
+std::string join(const std::vector<double>& v) { return fmt::format("{}", fmt::join(v, ",")); }
 
 // The index and image count of the model with the most registered images.
 std::pair<int, size_t> largest_model(const fs::path& sparse_raw, size_t* models) {
@@ -123,6 +124,25 @@ void relink(const fs::path& target, const fs::path& link) {
   fs::create_directory_symlink(fs::absolute(target), link);
 }
 
+// The model with the image and camera IDs the database gave its images (the
+// feature extractor numbers them in the order its threads finish).
+ColmapModel with_database_ids(const ColmapModel& model, const fs::path& db) {
+  const auto ids = read_database_images(db);
+  ColmapModel out;
+  for (const auto& [id, image] : model.images) {
+    const auto it = ids.find(image.name);
+    if (it == ids.end()) throw InputError(db, "the database has no image " + image.name);
+    ColmapImage copy = image;
+    copy.image_id = it->second.image_id;
+    copy.camera_id = it->second.camera_id;
+    ColmapCamera camera = model.cameras.at(image.camera_id);
+    camera.camera_id = copy.camera_id;
+    out.cameras[camera.camera_id] = camera;
+    out.images[copy.image_id] = copy;
+  }
+  return out;
+}
+
 }  // namespace
 
 SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptions& options) {
@@ -144,58 +164,87 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
   std::string fp = fmt::format("images {}\n", fmt::join(names, "\n"));
   bool redo = false;
 
+  const auto extract = [&](const std::string& model, const std::vector<double>& params) {
+    fs::remove(db);
+    std::vector<std::string> args = {"--database_path",
+                                     db.string(),
+                                     "--image_path",
+                                     images.string(),
+                                     "--ImageReader.single_camera",
+                                     o.single_camera || !params.empty() ? "1" : "0",
+                                     "--ImageReader.camera_model",
+                                     model,
+                                     "--SiftExtraction.use_gpu",
+                                     use_gpu};
+    if (!params.empty()) args.insert(args.end(), {"--ImageReader.camera_params", join(params)});
+    if (o.threads)
+      args.insert(args.end(), {"--SiftExtraction.num_threads", std::to_string(o.threads)});
+    o.colmap.run("feature extraction", "feature_extractor", args);
+  };
+  const bool sequential = o.matcher == SfmMatcher::kSequential ||
+                          (o.matcher == SfmMatcher::kAuto && names.size() > 250);
+  const auto match = [&] {
+    std::vector<std::string> args = {"--database_path", db.string(), "--SiftMatching.use_gpu",
+                                     use_gpu};
+    if (sequential) {
+      args.insert(args.end(),
+                  {"--SequentialMatching.overlap", std::to_string(o.sequential_overlap),
+                   "--SequentialMatching.loop_detection", o.vocab_tree.empty() ? "0" : "1"});
+      if (!o.vocab_tree.empty())
+        args.insert(args.end(), {"--SequentialMatching.vocab_tree_path", o.vocab_tree.string()});
+    }
+    o.colmap.run("matching", sequential ? "sequential_matcher" : "exhaustive_matcher", args);
+  };
+  // Bundle adjustment leaves known intrinsics as they are.
+  const std::vector<std::string> fixed_intrinsics = {"--Mapper.ba_refine_focal_length",    "0",
+                                                     "--Mapper.ba_refine_principal_point", "0",
+                                                     "--Mapper.ba_refine_extra_params",    "0"};
+  const std::string matcher_fp =
+      fmt::format("matcher {} overlap {} vocab {}\n", sequential ? "sequential" : "exhaustive",
+                  o.sequential_overlap, o.vocab_tree.string());
+
   if (!o.import_model.empty()) {
     const ColmapModel imported = read_colmap_model(o.import_model);
     fs::remove_all(raw);
     write_colmap_model(imported, raw / "0", ColmapFormat::kBinary);
     fp += "import " + fs::absolute(o.import_model).string();
     redo = true;
+  } else if (o.llff) {
+    // Known poses: features and matches, then COLMAP triangulates the points
+    // with the cameras held fixed.
+    const ImageRGB first = read_image_rgb(images / names.front());
+    const ColmapModel known =
+        llff_to_colmap(scene_dir / "poses_bounds.npy", names, first.width, first.height);
+    const std::vector<double>& params = known.cameras.at(1).params;
+    fp += fmt::format("llff {}\n", join(params));
+    redo = steps.run("feature extraction", fp, redo, [&] { extract("PINHOLE", params); });
+    fp += matcher_fp;
+    redo = steps.run("matching", fp, redo, match);
+    redo = steps.run("triangulation", fp, redo, [&] {
+      fs::remove_all(raw);
+      fs::create_directories(raw / "0");
+      write_colmap_model(with_database_ids(known, db), out / "llff_model", ColmapFormat::kText);
+      std::vector<std::string> args = {"--database_path", db.string(),
+                                       "--image_path",    images.string(),
+                                       "--input_path",    (out / "llff_model").string(),
+                                       "--output_path",   (raw / "0").string()};
+      args.insert(args.end(), fixed_intrinsics.begin(), fixed_intrinsics.end());
+      o.colmap.run("triangulation", "point_triangulator", args);
+    });
   } else {
     const bool known = !o.intrinsics.empty();
     fp += fmt::format("camera {} single {} known {}\n", known ? "PINHOLE" : o.camera_model,
                       o.single_camera, join(o.intrinsics));
-    redo = steps.run("feature extraction", fp, redo, [&] {
-      fs::remove(db);
-      std::vector<std::string> args = {"--database_path",
-                                       db.string(),
-                                       "--image_path",
-                                       images.string(),
-                                       "--ImageReader.single_camera",
-                                       o.single_camera ? "1" : "0",
-                                       "--ImageReader.camera_model",
-                                       known ? "PINHOLE" : o.camera_model,
-                                       "--SiftExtraction.use_gpu",
-                                       use_gpu};
-      if (known) args.insert(args.end(), {"--ImageReader.camera_params", join(o.intrinsics)});
-      if (o.threads)
-        args.insert(args.end(), {"--SiftExtraction.num_threads", std::to_string(o.threads)});
-      o.colmap.run("feature extraction", "feature_extractor", args);
-    });
-    const bool sequential = o.matcher == SfmMatcher::kSequential ||
-                            (o.matcher == SfmMatcher::kAuto && names.size() > 250);
-    fp += fmt::format("matcher {} overlap {} vocab {}\n", sequential ? "sequential" : "exhaustive",
-                      o.sequential_overlap, o.vocab_tree.string());
-    redo = steps.run("matching", fp, redo, [&] {
-      std::vector<std::string> args = {"--database_path", db.string(), "--SiftMatching.use_gpu",
-                                       use_gpu};
-      if (sequential) {
-        args.insert(args.end(),
-                    {"--SequentialMatching.overlap", std::to_string(o.sequential_overlap),
-                     "--SequentialMatching.loop_detection", o.vocab_tree.empty() ? "0" : "1"});
-        if (!o.vocab_tree.empty())
-          args.insert(args.end(), {"--SequentialMatching.vocab_tree_path", o.vocab_tree.string()});
-      }
-      o.colmap.run("matching", sequential ? "sequential_matcher" : "exhaustive_matcher", args);
-    });
+    redo = steps.run("feature extraction", fp, redo,
+                     [&] { extract(known ? "PINHOLE" : o.camera_model, o.intrinsics); });
+    fp += matcher_fp;
+    redo = steps.run("matching", fp, redo, match);
     redo = steps.run("mapping", fp, redo, [&] {
       fs::remove_all(raw);
       fs::create_directories(raw);
       std::vector<std::string> args = {"--database_path", db.string(),     "--image_path",
                                        images.string(),   "--output_path", raw.string()};
-      if (known)
-        args.insert(args.end(),
-                    {"--Mapper.ba_refine_focal_length", "0", "--Mapper.ba_refine_principal_point",
-                     "0", "--Mapper.ba_refine_extra_params", "0"});
+      if (known) args.insert(args.end(), fixed_intrinsics.begin(), fixed_intrinsics.end());
       if (o.threads) args.insert(args.end(), {"--Mapper.num_threads", std::to_string(o.threads)});
       o.colmap.run("mapping", "mapper", args);
     });
@@ -249,7 +298,13 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
 
   json accuracy = nullptr;
   if (!o.truth.empty()) {
-    const PoseAccuracy acc = pose_accuracy(model, read_colmap_model(o.truth));
+    const ColmapModel truth = read_colmap_model(o.truth);
+    std::set<std::string> true_names;
+    for (const auto& [id, image] : truth.images) true_names.insert(image.name);
+    if (std::count_if(in_model.begin(), in_model.end(),
+                      [&](const std::string& n) { return true_names.count(n) > 0; }) < 3)
+      throw InputError(o.truth, "the true model shares fewer than 3 image names with the scene");
+    const PoseAccuracy acc = pose_accuracy(model, truth);
     r.center_rmse = acc.center_rmse;
     r.rotation_error_deg = acc.rotation_error_deg;
     accuracy = {{"matched", acc.matched},
@@ -260,6 +315,7 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
                  acc.center_rmse, acc.rotation_error_deg);
   }
   const json summary = {{"pose_accuracy", accuracy},
+                        {"llff", o.llff},
                         {"views", r.views},
                         {"registered", r.registered},
                         {"unregistered", r.unregistered},

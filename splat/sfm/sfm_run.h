@@ -43,6 +43,9 @@ struct SfmOptions {
   // Import instead of running SfM: an existing COLMAP model folder (binary or
   // text), undistorted if its cameras have distortion.
   std::filesystem::path import_model;
+  // Import the LLFF cameras of <scene>/poses_bounds.npy (3DOVS) instead of
+  // estimating poses; COLMAP only triangulates the points, cameras fixed.
+  bool llff = false;
   // True cameras (a COLMAP model), if known: the pose accuracy after a
   // similarity alignment goes into sfm.json.
   std::filesystem::path truth;

@@ -21,7 +21,7 @@ using testing_util::TempDir;
 
 // The scene without sparse/, and its true model beside it.
 struct SfmScene {
-  fs::path scene, truth;
+  fs::path scene, truth, ovs;
   double orbit_radius;
 };
 const SfmScene& sfm_scene() {
@@ -31,10 +31,12 @@ const SfmScene& sfm_scene() {
     // The default scene (40 views, 320x240): with fewer or smaller views the
     // mapper finds no good initial pair.
     o.supersample = 2;
+    o.ovs_dir = d / "ovs";  // the same scene in the 3DOVS layout, for --llff
     synth::generate_scene(o, d / "with_model", true);
+    o.ovs_dir.clear();
     o.write_sparse = false;
     synth::generate_scene(o, d / "scene", true);
-    return SfmScene{d / "scene", d / "with_model" / "sparse" / "0", o.orbit_radius};
+    return SfmScene{d / "scene", d / "with_model" / "sparse" / "0", d / "ovs", o.orbit_radius};
   }();
   return s;
 }
@@ -82,6 +84,26 @@ TEST(Sfm, ImportsAnExistingModel) {
   const SfmResult r = run_sfm(sfm_scene().scene, out.path(), o);
   EXPECT_EQ(r.registered, 40u);
   EXPECT_EQ(read_colmap_model(r.scene / "sparse" / "0"), read_colmap_model(sfm_scene().truth));
+}
+
+TEST(Sfm, LlffCamerasAreKeptAndPointsTriangulated) {
+  TempDir out;
+  SfmOptions o;
+  o.gpu = SfmOptions::Gpu::kOff;
+  o.llff = true;
+  const SfmResult r = run_sfm(sfm_scene().ovs, out.path(), o);
+  EXPECT_EQ(r.registered, 40u);
+  const ColmapModel model = read_colmap_model(r.scene / "sparse" / "0");
+  EXPECT_GT(model.points3d.size(), 100u);
+  // The cameras are the true ones (3DOVS names its images 00.png, 01.png, ...
+  // in the order of the LERF-Mask layout's frame_NNNNN.png).
+  ColmapModel truth = read_colmap_model(sfm_scene().truth);
+  for (auto& [id, image] : truth.images)
+    image.name = image.name.substr(image.name.size() - 6);  // "frame_00012.png" -> "12.png"
+  const PoseAccuracy acc = pose_accuracy(model, truth);
+  EXPECT_EQ(acc.matched, 40u);
+  EXPECT_LT(acc.center_rmse, 1e-6);
+  EXPECT_NEAR(acc.alignment.scale, 1.0, 1e-9);
 }
 
 TEST(Sfm, MissingColmapSaysHowToInstallIt) {
