@@ -3,12 +3,14 @@
 // after a similarity alignment, a rerun reuses the finished steps, and the
 // user's folder is left as it was.
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include "eval/synthetic/generator.h"
 #include "splat/colmap_model.h"
 #include "splat/error.h"
+#include "splat/npy.h"
 #include "splat/sfm/alignment.h"
 #include "splat/sfm/sfm_run.h"
 #include "tests/test_util.h"
@@ -19,7 +21,11 @@ namespace {
 namespace fs = std::filesystem;
 using testing_util::TempDir;
 
-// The scene without sparse/, and its true model beside it.
+constexpr size_t kViews = 12;
+
+// The first 12 views of the default scene (40 views around the orbit, 9
+// degrees apart, 320x240) without sparse/, the same views in the 3DOVS
+// layout, and the true model of all 40.
 struct SfmScene {
   fs::path scene, truth, ovs;
   double orbit_radius;
@@ -28,15 +34,24 @@ const SfmScene& sfm_scene() {
   static const SfmScene s = [] {
     const fs::path d = fs::temp_directory_path() / ("op2gs_sfm_" + std::to_string(::getpid()));
     synth::SynthOptions o;
-    // The default scene (40 views, 320x240): with fewer or smaller views the
-    // mapper finds no good initial pair.
     o.supersample = 2;
-    o.ovs_dir = d / "ovs";  // the same scene in the 3DOVS layout, for --llff
-    synth::generate_scene(o, d / "with_model", true);
-    o.ovs_dir.clear();
-    o.write_sparse = false;
-    synth::generate_scene(o, d / "scene", true);
-    return SfmScene{d / "scene", d / "with_model" / "sparse" / "0", d / "ovs", o.orbit_radius};
+    o.ovs_dir = d / "ovs_all";
+    synth::generate_scene(o, d / "full", true);
+    for (size_t i = 0; i < kViews; ++i) {
+      const std::string name = fmt::format("frame_{:05d}.png", i);
+      for (const char* folder : {"images", "sam2"}) {
+        fs::create_directories(d / "scene" / folder);
+        fs::copy_file(d / "full" / folder / name, d / "scene" / folder / name);
+      }
+      fs::create_directories(d / "ovs" / "images");
+      const std::string ovs_name = fmt::format("{:02d}.png", i);
+      fs::copy_file(d / "ovs_all/images" / ovs_name, d / "ovs/images" / ovs_name);
+    }
+    std::vector<size_t> shape;
+    std::vector<double> poses = read_npy(d / "ovs_all/poses_bounds.npy", &shape);
+    poses.resize(kViews * 17);
+    write_npy_f64(d / "ovs/poses_bounds.npy", poses, {kViews, 17});
+    return SfmScene{d / "scene", d / "full" / "sparse" / "0", d / "ovs", o.orbit_radius};
   }();
   return s;
 }
@@ -56,7 +71,7 @@ TEST(Sfm, RegistersEveryViewWithAccuratePosesAndReusesSteps) {
   SfmOptions o;
   o.gpu = SfmOptions::Gpu::kOff;
   const SfmResult r = run_sfm(sfm_scene().scene, out.path(), o);
-  EXPECT_EQ(r.registered, 40u);
+  EXPECT_EQ(r.registered, kViews);
   EXPECT_TRUE(r.unregistered.empty());
   EXPECT_EQ(listing(sfm_scene().scene), before);  // the user's folder is untouched
 
@@ -65,10 +80,9 @@ TEST(Sfm, RegistersEveryViewWithAccuratePosesAndReusesSteps) {
   EXPECT_GT(model.points3d.size(), 100u);
   EXPECT_TRUE(fs::exists(r.scene / "images" / "frame_00000.png"));
   EXPECT_TRUE(fs::exists(r.scene / "sam2" / "frame_00000.png"));  // linked from the user's scene
-  EXPECT_TRUE(fs::exists(r.scene / "images_train"));
 
   const PoseAccuracy acc = pose_accuracy(model, read_colmap_model(sfm_scene().truth));
-  EXPECT_EQ(acc.matched, 40u);
+  EXPECT_EQ(acc.matched, kViews);
   EXPECT_LT(acc.center_rmse, 0.01 * sfm_scene().orbit_radius);
 
   // A rerun reuses extraction, matching and mapping.
@@ -81,7 +95,8 @@ TEST(Sfm, ImportsAnExistingModel) {
   TempDir out;
   SfmOptions o;
   o.import_model = sfm_scene().truth;
-  const SfmResult r = run_sfm(sfm_scene().scene, out.path(), o);
+  const fs::path full = sfm_scene().truth.parent_path().parent_path();
+  const SfmResult r = run_sfm(full, out.path(), o);
   EXPECT_EQ(r.registered, 40u);
   EXPECT_EQ(read_colmap_model(r.scene / "sparse" / "0"), read_colmap_model(sfm_scene().truth));
 }
@@ -92,7 +107,7 @@ TEST(Sfm, LlffCamerasAreKeptAndPointsTriangulated) {
   o.gpu = SfmOptions::Gpu::kOff;
   o.llff = true;
   const SfmResult r = run_sfm(sfm_scene().ovs, out.path(), o);
-  EXPECT_EQ(r.registered, 40u);
+  EXPECT_EQ(r.registered, kViews);
   const ColmapModel model = read_colmap_model(r.scene / "sparse" / "0");
   EXPECT_GT(model.points3d.size(), 100u);
   // The cameras are the true ones (3DOVS names its images 00.png, 01.png, ...
@@ -101,7 +116,7 @@ TEST(Sfm, LlffCamerasAreKeptAndPointsTriangulated) {
   for (auto& [id, image] : truth.images)
     image.name = image.name.substr(image.name.size() - 6);  // "frame_00012.png" -> "12.png"
   const PoseAccuracy acc = pose_accuracy(model, truth);
-  EXPECT_EQ(acc.matched, 40u);
+  EXPECT_EQ(acc.matched, kViews);
   EXPECT_LT(acc.center_rmse, 1e-6);
   EXPECT_NEAR(acc.alignment.scale, 1.0, 1e-9);
 }

@@ -1,0 +1,105 @@
+#include "eval/metrics/ovs.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <fstream>
+#include <stdexcept>
+
+#include "splat/error.h"
+#include "splat/label/id_maps.h"
+
+namespace eval {
+namespace fs = std::filesystem;
+
+OvsGroundTruth read_ovs_ground_truth(const fs::path& scene) {
+  const fs::path seg = scene / "segmentations", list = seg / "classes.txt";
+  std::ifstream in(list);
+  if (!in) throw splat::InputError(list, "no class list (3DOVS layout)");
+  OvsGroundTruth gt;
+  for (std::string line; std::getline(in, line);) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (!line.empty()) gt.classes.push_back(line);
+  }
+  if (gt.classes.empty()) throw splat::InputError(list, "no classes");
+  std::sort(gt.classes.begin(), gt.classes.end());
+  for (const auto& f : fs::directory_iterator(scene / "images"))
+    if (f.is_regular_file()) gt.images.push_back(f.path().filename().string());
+  std::sort(gt.images.begin(), gt.images.end());
+  std::vector<std::pair<size_t, fs::path>> dirs;
+  for (const auto& d : fs::directory_iterator(seg)) {
+    if (!d.is_directory()) continue;
+    const std::string name = d.path().filename().string();
+    if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos)
+      throw splat::InputError(d.path(), "segmentation folders must be image indices");
+    const size_t index = std::stoul(name);
+    if (index >= gt.images.size())
+      throw splat::InputError(d.path(), "no image with this index in images/");
+    dirs.emplace_back(index, d.path());
+  }
+  std::sort(dirs.begin(), dirs.end());
+  for (const auto& [index, dir] : dirs) {
+    gt.views.push_back(index);
+    std::vector<fs::path> masks;
+    for (const std::string& c : gt.classes) {
+      const fs::path f = dir / (c + ".png");
+      masks.push_back(fs::exists(f) ? f : fs::path());
+    }
+    gt.masks.push_back(masks);
+  }
+  return gt;
+}
+
+Mask read_ovs_mask(const fs::path& file, int width, int height) {
+  if (file.empty()) return Mask(width, height);
+  auto in = OIIO::ImageInput::open(file.string());
+  if (!in) throw splat::InputError(file, "cannot read the mask: " + OIIO::geterror());
+  const OIIO::ImageSpec spec = in->spec();
+  std::vector<uint8_t> px(size_t(spec.width) * spec.height * spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, px.data()))
+    throw splat::InputError(file, "cannot decode the mask: " + in->geterror());
+  splat::IdMap grey(spec.width, spec.height);
+  for (size_t p = 0; p < grey.ids.size(); ++p) {
+    const uint8_t* c = &px[p * spec.nchannels];
+    // Pillow's 'L' conversion of RGB; grey is taken as it is.
+    grey.ids[p] = spec.nchannels >= 3
+                      ? uint16_t((19595 * c[0] + 38470 * c[1] + 7471 * c[2] + 0x8000) >> 16)
+                      : c[0];
+  }
+  const splat::IdMap r = splat::resize_id_map_nearest(grey, width, height);
+  Mask m(width, height);
+  for (size_t p = 0; p < m.on.size(); ++p) m.on[p] = r.ids[p] == 255;
+  return m;
+}
+
+OvsViewScore score_ovs_view(const std::vector<Mask>& truth,
+                            const std::vector<std::vector<float>>& scores, int width, int height) {
+  const size_t classes = truth.size(), pixels = size_t(width) * height;
+  if (scores.size() != classes) throw std::invalid_argument("one score map per class");
+  std::vector<uint16_t> predicted(pixels, 0);  // argmax; the first class on ties, as numpy
+  for (size_t p = 0; p < pixels; ++p) {
+    float best = scores[0][p];
+    for (size_t c = 1; c < classes; ++c)
+      if (scores[c][p] > best) best = scores[c][p], predicted[p] = uint16_t(c);
+  }
+  OvsViewScore s;
+  for (size_t c = 0; c < classes; ++c) {
+    size_t inter = 0, uni = 0;
+    for (size_t p = 0; p < pixels; ++p) {
+      const bool pred = predicted[p] == c, gt = truth[c].on[p];
+      inter += pred && gt;
+      uni += pred || gt;
+    }
+    s.iou.push_back(uni ? double(inter) / double(uni) : 0.0);
+  }
+  size_t right = 0;
+  for (size_t p = 0; p < pixels; ++p) {
+    bool row_matches = true;  // the ground-truth row must be exactly one-hot at `predicted`
+    for (size_t c = 0; c < classes; ++c) row_matches &= bool(truth[c].on[p]) == (predicted[p] == c);
+    right += row_matches;
+  }
+  s.accuracy = double(right) / double(pixels);
+  return s;
+}
+
+}  // namespace eval

@@ -1,0 +1,68 @@
+// The 3DOVS metric on hand-computed cases and the layout the synthetic
+// generator writes.
+
+#include "eval/metrics/ovs.h"
+
+#include <gtest/gtest.h>
+
+#include "eval/synthetic/generator.h"
+#include "splat/error.h"
+#include "splat/image.h"
+#include "tests/test_util.h"
+
+namespace eval {
+namespace {
+
+Mask pixels_on(int w, int h, std::vector<int> on) {
+  Mask m(w, h);
+  for (int p : on) m.on[p] = 1;
+  return m;
+}
+
+TEST(Ovs, OneHotArgmaxIouAndAccuracy) {
+  // 4 pixels, classes a, b. Ground truth: a on {0, 1}, b on {2}; pixel 3 has
+  // no class (always wrong for the accuracy).
+  const std::vector<Mask> truth = {pixels_on(4, 1, {0, 1}), pixels_on(4, 1, {2})};
+  // Scores: pixel 0 -> a, 1 -> b, 2 -> b, 3: all zero -> a (the first class).
+  const std::vector<std::vector<float>> scores = {{0.9f, 0.2f, 0.1f, 0.f}, {0.1f, 0.6f, 0.8f, 0.f}};
+  const OvsViewScore s = score_ovs_view(truth, scores, 4, 1);
+  EXPECT_DOUBLE_EQ(s.iou[0], 1.0 / 3.0);    // pred a {0, 3}, gt a {0, 1}
+  EXPECT_DOUBLE_EQ(s.iou[1], 1.0 / 2.0);    // pred b {1, 2}, gt b {2}
+  EXPECT_DOUBLE_EQ(s.accuracy, 2.0 / 4.0);  // pixels 0 and 2
+}
+
+TEST(Ovs, AbsentClassScoresZeroNotNan) {
+  const std::vector<Mask> truth = {pixels_on(2, 1, {0, 1}), Mask(2, 1)};
+  const OvsViewScore s = score_ovs_view(truth, {{1.f, 1.f}, {0.f, 0.f}}, 2, 1);
+  EXPECT_DOUBLE_EQ(s.iou[0], 1.0);
+  EXPECT_DOUBLE_EQ(s.iou[1], 0.0);
+}
+
+TEST(Ovs, ReadsTheSyntheticLayoutAndOnly255IsForeground) {
+  testing_util::TempDir dir;
+  synth::SynthOptions o;
+  o.views = 6;
+  o.width = 64;
+  o.height = 48;
+  o.supersample = 1;
+  o.num_points = 200;
+  o.ovs_dir = dir / "ovs";
+  o.ovs_test_views = 2;
+  synth::generate_scene(o, dir / "lerf", true);
+  const OvsGroundTruth gt = read_ovs_ground_truth(dir / "ovs");
+  EXPECT_TRUE(std::is_sorted(gt.classes.begin(), gt.classes.end()));
+  EXPECT_EQ(gt.images.size(), 6u);
+  EXPECT_EQ(gt.views.size(), 2u);
+  size_t present = 0;
+  for (const auto& f : gt.masks[0]) present += !f.empty();
+  EXPECT_GT(present, 3u);
+  // 254 is not foreground; resizing keeps the rule.
+  splat::IdMap grey(2, 1);
+  grey.ids = {255, 254};
+  splat::write_id_map(dir / "m.png", grey, 8);
+  EXPECT_EQ(read_ovs_mask(dir / "m.png", 4, 2).on, (std::vector<uint8_t>{1, 1, 0, 0, 1, 1, 0, 0}));
+  EXPECT_THROW(read_ovs_ground_truth(dir / "lerf"), splat::InputError);
+}
+
+}  // namespace
+}  // namespace eval
