@@ -8,16 +8,15 @@ namespace {
 
 // The paper's start-step ablation: starting within 1,000 iterations after an
 // opacity reset hurts, as the opacities have not recovered yet.
-void warn_if_just_after_reset(const std::filesystem::path& checkpoint) {
-  const splat::TrainOptions stage_one;
+void warn_if_just_after_reset(const std::filesystem::path& checkpoint,
+                              const std::filesystem::path& stage_one_work) {
   const int start = splat::read_checkpoint_model(checkpoint).iteration;
-  for (int reset = stage_one.opacity_reset_every; reset < stage_one.densify_until;
-       reset += stage_one.opacity_reset_every)
-    if (start > reset - 1 && start <= reset + 1000)
-      spdlog::warn(
-          "stage two starts at iteration {}, within 1,000 iterations after the opacity "
-          "reset at {}: the paper's ablation shows that hurts; 20,000 is the default",
-          start, reset);
+  const int reset = splat::last_opacity_reset(stage_one_work, start);
+  if (reset >= 0 && start - reset < 1000)
+    spdlog::warn(
+        "stage two starts at iteration {}, {} iterations after the opacity reset at {}: the "
+        "paper's ablation shows that starting within 1,000 after a reset hurts",
+        start, start - reset, reset);
 }
 
 }  // namespace
@@ -60,7 +59,7 @@ int main(int argc, char** argv) {
     if (!o.resume) {
       if (!std::filesystem::exists(o.start_checkpoint))
         throw splat::InputError(o.start_checkpoint, "no stage-one checkpoint (run op2gs-train)");
-      warn_if_just_after_reset(o.start_checkpoint);
+      warn_if_just_after_reset(o.start_checkpoint, w);
     }
     stages::TrainingCli::report(splat::run_training(scene, w / "learn", o), (w / "learn").string());
   });

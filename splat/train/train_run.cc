@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "splat/atomic_file.h"
@@ -64,6 +65,26 @@ std::vector<int32_t> read_labels(const fs::path& file, const GaussianModel& mode
 }
 
 }  // namespace
+
+int last_opacity_reset(const fs::path& work, int iteration) {
+  const fs::path log = work / "train_log.jsonl";
+  int last = -1;
+  if (fs::exists(log)) {
+    std::ifstream in(log);
+    for (std::string line; std::getline(in, line);) {
+      if (line.find("opacity_reset") == std::string::npos) continue;
+      const json j = json::parse(line, nullptr, false);
+      if (j.is_object() && j.value("opacity_reset", false) && j.value("iteration", 0) <= iteration)
+        last = std::max(last, j.value("iteration", 0));
+    }
+    return last;
+  }
+  const TrainOptions defaults;
+  for (int r = defaults.opacity_reset_every; r < defaults.densify_until && r <= iteration;
+       r += defaults.opacity_reset_every)
+    last = r;
+  return last;
+}
 
 TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
                             const TrainRunOptions& o) {

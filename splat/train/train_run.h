@@ -37,6 +37,11 @@ struct TrainRunResult {
   double seconds = 0;
 };
 
+// The last opacity reset at or before `iteration` of a stage-one run: from
+// its train_log.jsonl when the work folder has one, else from the default
+// schedule (every 3,000 iterations until 15,000). -1 if none.
+int last_opacity_reset(const std::filesystem::path& stage_one_work, int iteration);
+
 TrainRunResult run_training(const std::filesystem::path& scene_dir,
                             const std::filesystem::path& work_dir, const TrainRunOptions& options);
 
