@@ -15,6 +15,10 @@ int main(int argc, char** argv) {
                  "NAME=FOLDER of predictions: <stem>.png label maps or <stem>/<id>.png masks")
       ->required();
   app.add_option("--out", out, "metrics file to write")->required();
+  std::string protocol = "auto";
+  app.add_option("--protocol", protocol,
+                 "lerf (test_mask/), 3dovs (segmentations/: the 3DOVS reference metric), or auto")
+      ->capture_default_str();
   return stages::run_stage(app, argc, argv, [&] {
     eval::EvalRunOptions o;
     for (const std::string& p : predictions) {
@@ -23,11 +27,18 @@ int main(int argc, char** argv) {
         throw std::invalid_argument("--pred must be NAME=FOLDER, not " + p);
       o.predictions.push_back({p.substr(0, eq), p.substr(eq + 1)});
     }
+    const std::map<std::string, eval::Protocol> protocols = {{"auto", eval::Protocol::kAuto},
+                                                             {"lerf", eval::Protocol::kLerfMask},
+                                                             {"3dovs", eval::Protocol::kOvs}};
+    if (!protocols.count(protocol))
+      throw std::invalid_argument("--protocol must be auto, lerf or 3dovs");
+    o.protocol = protocols.at(protocol);
     const eval::EvalRunResult r = eval::run_evaluation(scene, out, o);
-    fmt::print("{:<24} {:>8} {:>8}\n", "predictions (oracle)", "mIoU", "mBIoU");
+    const bool lerf = r.protocol == eval::Protocol::kLerfMask;
+    fmt::print("{:<24} {:>8} {:>8}   ({}, oracle)\n", "predictions", "mIoU", lerf ? "mBIoU" : "acc",
+               lerf ? "LERF-Mask protocol" : "3DOVS reference metric");
     for (size_t i = 0; i < r.names.size(); ++i)
-      fmt::print("{:<24} {:>8.1f} {:>8.1f}\n", r.names[i], 100 * r.scores[i].miou,
-                 100 * r.scores[i].mbiou);
+      fmt::print("{:<24} {:>8.1f} {:>8.1f}\n", r.names[i], 100 * r.miou[i], 100 * r.second[i]);
     spdlog::info("per-view figures in {}", out);
   });
 }

@@ -102,4 +102,39 @@ OvsViewScore score_ovs_view(const std::vector<Mask>& truth,
   return s;
 }
 
+OvsScore score_ovs_oracle(const OvsGroundTruth& gt,
+                          const std::function<ObjectMasks(size_t i)>& masks_of) {
+  const size_t classes = gt.classes.size();
+  OvsScore score;
+  score.objects.assign(classes, -1);
+  double iou_sum = 0;
+  size_t pairs = 0;
+  for (size_t i = 0; i < gt.views.size(); ++i) {
+    const ObjectMasks predicted = masks_of(i);
+    if (predicted.empty()) throw std::invalid_argument("no predicted masks for a view");
+    const int W = predicted.begin()->second.width, H = predicted.begin()->second.height;
+    std::vector<Mask> truth;
+    for (size_t c = 0; c < classes; ++c) truth.push_back(read_ovs_mask(gt.masks[i][c], W, H));
+    std::vector<std::vector<float>> scores(classes, std::vector<float>(size_t(W) * H, 0.f));
+    for (size_t c = 0; c < classes; ++c) {
+      if (score.objects[c] < 0 && truth[c].count() > 0) {  // the oracle's choice
+        double best = -1;
+        for (const auto& [id, mask] : predicted) {
+          const double iou = mask_iou(truth[c], mask);
+          if (iou > best) best = iou, score.objects[c] = id;
+        }
+      }
+      const auto it = predicted.find(score.objects[c]);
+      if (it == predicted.end()) continue;
+      for (size_t p = 0; p < scores[c].size(); ++p) scores[c][p] = it->second.on[p];
+    }
+    score.views.push_back(score_ovs_view(truth, scores, W, H));
+    for (double v : score.views.back().iou) iou_sum += v, ++pairs;
+    score.accuracy += score.views.back().accuracy;
+  }
+  score.miou = pairs ? iou_sum / double(pairs) : 0;
+  score.accuracy = score.views.empty() ? 0 : score.accuracy / double(score.views.size());
+  return score;
+}
+
 }  // namespace eval

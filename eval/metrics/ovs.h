@@ -8,9 +8,11 @@
 // (pixels without a ground-truth class are always wrong).
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "eval/metrics/lerf_mask.h"
 #include "eval/metrics/mask_metrics.h"
 
 namespace eval {
@@ -42,5 +44,20 @@ struct OvsViewScore {
 // the occupancy S_j of the object chosen for it.
 OvsViewScore score_ovs_view(const std::vector<Mask>& truth,
                             const std::vector<std::vector<float>>& scores, int width, int height);
+
+struct OvsScore {
+  std::vector<int32_t> objects;     // per class: the object whose masks were scored (-1: none)
+  std::vector<OvsViewScore> views;  // per evaluated view
+  double miou = 0;                  // mean over (view, class) pairs, in [0, 1]
+  double accuracy = 0;              // mean over views
+};
+
+// Oracle mode: each class takes the object whose predicted mask has the
+// highest IoU on the first evaluated view where the class has ground truth;
+// that object's mask (1 inside, 0 outside) is the class's score. masks_of(i)
+// gives the predictions of the i-th evaluated view; the ground truth is
+// resized to their size.
+OvsScore score_ovs_oracle(const OvsGroundTruth& gt,
+                          const std::function<ObjectMasks(size_t i)>& masks_of);
 
 }  // namespace eval

@@ -5,8 +5,10 @@
 #include <set>
 #include <stdexcept>
 
+#include "eval/metrics/ovs.h"
 #include "eval/metrics/predictions.h"
 #include "splat/atomic_file.h"
+#include "splat/error.h"
 
 namespace eval {
 namespace fs = std::filesystem;
@@ -42,25 +44,71 @@ json score_json(const LerfMaskGroundTruth& gt, const SceneScore& s) {
 }
 }  // namespace
 
+namespace {
+
+json ovs_json(const OvsGroundTruth& gt, const OvsScore& s) {
+  json classes = json::array();
+  for (size_t c = 0; c < gt.classes.size(); ++c) {
+    json views = json::array();
+    for (size_t i = 0; i < s.views.size(); ++i)
+      views.push_back({{"view", gt.images[gt.views[i]]}, {"iou", s.views[i].iou[c]}});
+    classes.push_back({{"class", gt.classes[c]}, {"object", s.objects[c]}, {"views", views}});
+  }
+  json accuracy = json::array();
+  for (const auto& v : s.views) accuracy.push_back(v.accuracy);
+  return {{"miou", s.miou},
+          {"accuracy", s.accuracy},
+          {"classes", classes},
+          {"view_accuracy", accuracy}};
+}
+
+Protocol protocol_of(const fs::path& scene, Protocol p) {
+  if (p != Protocol::kAuto) return p;
+  if (fs::is_directory(scene / "test_mask")) return Protocol::kLerfMask;
+  if (fs::is_directory(scene / "segmentations")) return Protocol::kOvs;
+  throw splat::InputError(scene, "no ground truth (neither test_mask/ nor segmentations/)");
+}
+
+}  // namespace
+
 EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const EvalRunOptions& o) {
   o.Check();
-  const LerfMaskGroundTruth gt = read_lerf_mask_ground_truth(scene);
   EvalRunResult r;
-  json results = json::object();
-  for (const NamedPredictions& p : o.predictions) {
-    const SceneScore s = score_oracle(
-        gt, [&](size_t k) { return read_view_predictions(p.folder, gt.test_views[k]); });
-    r.names.push_back(p.name);
-    r.scores.push_back(s);
-    json j = score_json(gt, s);
-    j["folder"] = p.folder.string();
-    results[p.name] = j;
+  r.protocol = protocol_of(scene, o.protocol);
+  json results = json::object(), metrics;
+  if (r.protocol == Protocol::kLerfMask) {
+    const LerfMaskGroundTruth gt = read_lerf_mask_ground_truth(scene);
+    for (const NamedPredictions& p : o.predictions) {
+      const SceneScore s = score_oracle(
+          gt, [&](size_t k) { return read_view_predictions(p.folder, gt.test_views[k]); });
+      r.names.push_back(p.name);
+      r.miou.push_back(s.miou);
+      r.second.push_back(s.mbiou);
+      results[p.name] = score_json(gt, s);
+      results[p.name]["folder"] = p.folder.string();
+    }
+    metrics = {{"protocol", "lerf-mask (IoU and boundary IoU, dilation ratio 0.02)"},
+               {"test_views", gt.test_views}};
+  } else {
+    const OvsGroundTruth gt = read_ovs_ground_truth(scene);
+    std::vector<std::string> views;
+    for (size_t v : gt.views) views.push_back(gt.images[v]);
+    for (const NamedPredictions& p : o.predictions) {
+      const OvsScore s =
+          score_ovs_oracle(gt, [&](size_t i) { return read_view_predictions(p.folder, views[i]); });
+      r.names.push_back(p.name);
+      r.miou.push_back(s.miou);
+      r.second.push_back(s.accuracy);
+      results[p.name] = ovs_json(gt, s);
+      results[p.name]["folder"] = p.folder.string();
+    }
+    metrics = {{"protocol", "3dovs reference (one-hot argmax, per-class IoU, pixel accuracy)"},
+               {"test_views", views},
+               {"classes", gt.classes}};
   }
-  const json metrics = {{"scene", scene.string()},
-                        {"protocol", "lerf-mask (IoU and boundary IoU, dilation ratio 0.02)"},
-                        {"mode", "oracle"},
-                        {"test_views", gt.test_views},
-                        {"results", results}};
+  metrics["scene"] = scene.string();
+  metrics["mode"] = "oracle";
+  metrics["results"] = results;
   splat::write_text_atomically(out, metrics.dump(2) + "\n");
   return r;
 }

@@ -1,6 +1,7 @@
 #pragma once
-// op2gs-eval's run: scores prediction folders of a scene with the LERF-Mask
-// protocol (oracle mode) and writes every per-view figure to metrics.json.
+// op2gs-eval's run: scores prediction folders of a scene in oracle mode with
+// the LERF-Mask protocol (test_mask/) or the 3DOVS reference metric
+// (segmentations/), and writes every per-view figure to metrics.json.
 
 #include <filesystem>
 #include <string>
@@ -15,14 +16,20 @@ struct NamedPredictions {
   std::filesystem::path folder;
 };
 
+enum class Protocol { kAuto, kLerfMask, kOvs };
+
 struct EvalRunOptions {
   std::vector<NamedPredictions> predictions;
-  void Check() const;  // throws std::invalid_argument
+  Protocol protocol = Protocol::kAuto;  // auto: from the scene's layout
+  void Check() const;                   // throws std::invalid_argument
 };
 
 struct EvalRunResult {
+  Protocol protocol = Protocol::kLerfMask;
   std::vector<std::string> names;
-  std::vector<SceneScore> scores;  // one per prediction folder
+  // Per prediction folder, in [0, 1]: mIoU, and mBIoU (LERF-Mask) or pixel
+  // accuracy (3DOVS).
+  std::vector<double> miou, second;
 };
 
 // Scores every prediction folder; writes metrics.json (atomically) to `out`.

@@ -38,6 +38,36 @@ TEST(Ovs, AbsentClassScoresZeroNotNan) {
   EXPECT_DOUBLE_EQ(s.iou[1], 0.0);
 }
 
+TEST(Ovs, OracleTakesTheBestObjectPerClass) {
+  testing_util::TempDir dir;
+  // Images a..c; segmentations for views 0 and 2; classes cup, bear (sorted: bear, cup).
+  for (const char* v : {"a.png", "b.png", "c.png"})
+    testing_util::write_file(dir / "images" / v, "x");
+  testing_util::write_file(dir / "segmentations/classes.txt", "cup\nbear\n");
+  auto write = [&](const std::string& f, std::vector<int> on) {
+    const Mask m = pixels_on(4, 1, on);
+    splat::write_mask_png(dir / "segmentations" / f, 4, 1, m.on);
+  };
+  write("00/cup.png", {0, 1});
+  write("00/bear.png", {2, 3});
+  write("02/cup.png", {0});
+  const OvsGroundTruth gt = read_ovs_ground_truth(dir.path());
+  EXPECT_EQ(gt.classes, (std::vector<std::string>{"bear", "cup"}));
+  EXPECT_EQ(gt.views, (std::vector<size_t>{0, 2}));
+  EXPECT_TRUE(gt.masks[1][0].empty());  // no bear in view 2
+  // Object 5 is the cup (pixels 0, 1), object 9 the bear (2, 3), in both views.
+  const auto masks_of = [](size_t) {
+    return ObjectMasks{{5, pixels_on(4, 1, {0, 1})}, {9, pixels_on(4, 1, {2, 3})}};
+  };
+  const OvsScore s = score_ovs_oracle(gt, masks_of);
+  EXPECT_EQ(s.objects, (std::vector<int32_t>{9, 5}));
+  // View 0: both exact. View 2: bear absent but predicted on {2, 3} -> IoU 0;
+  // cup {0} against predicted {0, 1} -> 0.5.
+  EXPECT_DOUBLE_EQ(s.miou, (1.0 + 1.0 + 0.0 + 0.5) / 4);
+  EXPECT_DOUBLE_EQ(s.views[0].accuracy, 1.0);
+  EXPECT_DOUBLE_EQ(s.views[1].accuracy, 1.0 / 4);  // only pixel 0 matches its one-hot row
+}
+
 TEST(Ovs, ReadsTheSyntheticLayoutAndOnly255IsForeground) {
   testing_util::TempDir dir;
   synth::SynthOptions o;

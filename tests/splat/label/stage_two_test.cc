@@ -122,8 +122,8 @@ TEST(StageTwo, RendersMasksLabelMapsAndObjectModels) {
   eval::EvalRunOptions e;
   e.predictions = {{"dual", a / "render/masks"}, {"baseline", a / "render/baseline_labels"}};
   const eval::EvalRunResult scores = eval::run_evaluation(scene(), a / "metrics.json", e);
-  ASSERT_EQ(scores.scores.size(), 2u);
-  EXPECT_GT(scores.scores[0].miou, 0.3);  // a very short run, but well above chance
+  ASSERT_EQ(scores.miou.size(), 2u);
+  EXPECT_GT(scores.miou[0], 0.3);  // a very short run, but well above chance
   EXPECT_TRUE(fs::exists(a / "metrics.json"));
 
   // One object, and the scene without it, partition the model.
