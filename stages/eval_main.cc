@@ -17,8 +17,13 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "metrics file to write")->required();
   std::string protocol = "auto";
   app.add_option("--protocol", protocol,
-                 "lerf (test_mask/), 3dovs (segmentations/: the 3DOVS reference metric), or auto")
+                 "lerf (test_mask/), 3dovs (segmentations/: the 3DOVS reference metric), "
+                 "3dovs-lerf (the LERF-Mask script on 3DOVS masks, as the 3DGS papers), or auto")
       ->capture_default_str();
+  int truth_width = 0;
+  app.add_option("--truth-width", truth_width,
+                 "LERF-Mask scoring: resize the ground truth to this width first (ObjectGS "
+                 "scores 3DOVS at 1440)");
   return stages::run_stage(app, argc, argv, [&] {
     eval::EvalRunOptions o;
     for (const std::string& p : predictions) {
@@ -27,16 +32,21 @@ int main(int argc, char** argv) {
         throw std::invalid_argument("--pred must be NAME=FOLDER, not " + p);
       o.predictions.push_back({p.substr(0, eq), p.substr(eq + 1)});
     }
-    const std::map<std::string, eval::Protocol> protocols = {{"auto", eval::Protocol::kAuto},
-                                                             {"lerf", eval::Protocol::kLerfMask},
-                                                             {"3dovs", eval::Protocol::kOvs}};
+    const std::map<std::string, eval::Protocol> protocols = {
+        {"auto", eval::Protocol::kAuto},
+        {"lerf", eval::Protocol::kLerfMask},
+        {"3dovs", eval::Protocol::kOvs},
+        {"3dovs-lerf", eval::Protocol::kOvsLerfMask}};
     if (!protocols.count(protocol))
       throw std::invalid_argument("--protocol must be auto, lerf or 3dovs");
     o.protocol = protocols.at(protocol);
+    o.truth_width = truth_width;
     const eval::EvalRunResult r = eval::run_evaluation(scene, out, o);
-    const bool lerf = r.protocol == eval::Protocol::kLerfMask;
+    const bool lerf = r.protocol != eval::Protocol::kOvs;
     fmt::print("{:<24} {:>8} {:>8}   ({}, oracle)\n", "predictions", "mIoU", lerf ? "mBIoU" : "acc",
-               lerf ? "LERF-Mask protocol" : "3DOVS reference metric");
+               r.protocol == eval::Protocol::kOvs           ? "3DOVS reference metric"
+               : r.protocol == eval::Protocol::kOvsLerfMask ? "LERF-Mask script on 3DOVS masks"
+                                                            : "LERF-Mask protocol");
     for (size_t i = 0; i < r.names.size(); ++i)
       fmt::print("{:<24} {:>8.1f} {:>8.1f}\n", r.names[i], 100 * r.miou[i], 100 * r.second[i]);
     spdlog::info("per-view figures in {}", out);

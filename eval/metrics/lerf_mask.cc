@@ -5,6 +5,7 @@
 #include <limits>
 #include <set>
 
+#include "eval/metrics/ovs.h"
 #include "splat/error.h"
 
 namespace eval {
@@ -61,7 +62,7 @@ ObjectMasks masks_from_label_map(const std::vector<int32_t>& labels, int width, 
 }
 
 SceneScore score_oracle(const LerfMaskGroundTruth& gt,
-                        const std::function<ObjectMasks(size_t k)>& masks_of) {
+                        const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width) {
   std::map<size_t, ObjectMasks> predictions;  // loaded once per view
   auto predicted = [&](size_t k) -> const ObjectMasks& {
     auto it = predictions.find(k);
@@ -80,7 +81,11 @@ SceneScore score_oracle(const LerfMaskGroundTruth& gt,
     for (size_t k = 0; k < gt.masks.size(); ++k) {
       const auto f = gt.masks[k].find(query);
       if (f == gt.masks[k].end()) continue;
-      const Mask truth = read_mask(f->second);
+      Mask truth = read_mask(f->second);
+      if (truth_width > 0 && truth.width != truth_width)
+        truth = resize_mask_nearest(
+            truth, truth_width,
+            std::max(1, int(std::lround(double(truth.height) * truth_width / truth.width))));
       if (q.object < 0) {  // the oracle's choice, on the first view with ground truth
         double best = -1;
         for (const auto& [id, _] : predicted(k)) {
@@ -106,6 +111,23 @@ SceneScore score_oracle(const LerfMaskGroundTruth& gt,
   scene.miou = n ? scene.miou / n : std::numeric_limits<double>::quiet_NaN();
   scene.mbiou = n ? scene.mbiou / n : std::numeric_limits<double>::quiet_NaN();
   return scene;
+}
+
+LerfMaskGroundTruth lerf_mask_from_ovs(const OvsGroundTruth& ovs) {
+  LerfMaskGroundTruth gt;
+  gt.queries = ovs.classes;
+  for (size_t i = 0; i < ovs.views.size(); ++i) {
+    gt.test_views.push_back(ovs.images[ovs.views[i]]);
+    std::map<std::string, fs::path> masks;
+    for (size_t c = 0; c < ovs.classes.size(); ++c) {
+      // A class absent from a view (an empty mask) is not a pair to score:
+      // the LERF-Mask script would give it NaN and poison every mean.
+      if (ovs.masks[i][c].empty() || read_mask(ovs.masks[i][c]).count() == 0) continue;
+      masks[ovs.classes[c]] = ovs.masks[i][c];
+    }
+    gt.masks.push_back(masks);
+  }
+  return gt;
 }
 
 }  // namespace eval

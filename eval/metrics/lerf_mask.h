@@ -48,8 +48,17 @@ using ObjectMasks = std::map<int32_t, Mask>;
 // gives the predictions of test view k (any size: resized to the ground
 // truth's with the nearest-neighbour rule). An object missing from a view's
 // predictions has an empty mask there.
+// truth_width > 0 first resizes each ground-truth mask (nearest neighbour) to
+// that width, keeping its aspect ratio: the downsampled evaluation the 3DGS
+// papers run on 3DOVS masks (ObjectGS: 1440 x 1080).
 SceneScore score_oracle(const LerfMaskGroundTruth& gt,
-                        const std::function<ObjectMasks(size_t k)>& masks_of);
+                        const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width = 0);
+
+// The 3DOVS layout as LERF-Mask ground truth: the segmented views as test
+// views, the classes as queries, one binary mask per (view, class) where the
+// class is present (empty masks are left out: the script would score them NaN).
+struct OvsGroundTruth;
+LerfMaskGroundTruth lerf_mask_from_ovs(const OvsGroundTruth& ovs);
 
 // Masks of every label of a label map (label 0 is background, not an object).
 ObjectMasks masks_from_label_map(const std::vector<int32_t>& labels, int width, int height);

@@ -76,18 +76,23 @@ EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const E
   EvalRunResult r;
   r.protocol = protocol_of(scene, o.protocol);
   json results = json::object(), metrics;
-  if (r.protocol == Protocol::kLerfMask) {
-    const LerfMaskGroundTruth gt = read_lerf_mask_ground_truth(scene);
+  if (r.protocol != Protocol::kOvs) {
+    const bool on_ovs = r.protocol == Protocol::kOvsLerfMask;
+    const LerfMaskGroundTruth gt = on_ovs ? lerf_mask_from_ovs(read_ovs_ground_truth(scene))
+                                          : read_lerf_mask_ground_truth(scene);
     for (const NamedPredictions& p : o.predictions) {
       const SceneScore s = score_oracle(
-          gt, [&](size_t k) { return read_view_predictions(p.folder, gt.test_views[k]); });
+          gt, [&](size_t k) { return read_view_predictions(p.folder, gt.test_views[k]); },
+          o.truth_width);
       r.names.push_back(p.name);
       r.miou.push_back(s.miou);
       r.second.push_back(s.mbiou);
       results[p.name] = score_json(gt, s);
       results[p.name]["folder"] = p.folder.string();
     }
-    metrics = {{"protocol", "lerf-mask (IoU and boundary IoU, dilation ratio 0.02)"},
+    metrics = {{"protocol", on_ovs ? "lerf-mask script on 3dovs masks (IoU and boundary IoU)"
+                                   : "lerf-mask (IoU and boundary IoU, dilation ratio 0.02)"},
+               {"truth_width", o.truth_width},
                {"test_views", gt.test_views}};
   } else {
     const OvsGroundTruth gt = read_ovs_ground_truth(scene);

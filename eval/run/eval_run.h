@@ -16,19 +16,22 @@ struct NamedPredictions {
   std::filesystem::path folder;
 };
 
-enum class Protocol { kAuto, kLerfMask, kOvs };
+// kOvsLerfMask: the LERF-Mask script on 3DOVS masks, as the 3DGS papers
+// (and the OP2GS paper's 3DOVS table) report it.
+enum class Protocol { kAuto, kLerfMask, kOvs, kOvsLerfMask };
 
 struct EvalRunOptions {
   std::vector<NamedPredictions> predictions;
   Protocol protocol = Protocol::kAuto;  // auto: from the scene's layout
-  void Check() const;                   // throws std::invalid_argument
+  int truth_width = 0;  // LERF-Mask scoring at this ground-truth width (0: as stored)
+  void Check() const;   // throws std::invalid_argument
 };
 
 struct EvalRunResult {
   Protocol protocol = Protocol::kLerfMask;
   std::vector<std::string> names;
-  // Per prediction folder, in [0, 1]: mIoU, and mBIoU (LERF-Mask) or pixel
-  // accuracy (3DOVS).
+  // Per prediction folder, in [0, 1]: mIoU, and mBIoU (LERF-Mask scoring) or
+  // pixel accuracy (the 3DOVS reference metric).
   std::vector<double> miou, second;
 };
 

@@ -68,6 +68,25 @@ TEST(Ovs, OracleTakesTheBestObjectPerClass) {
   EXPECT_DOUBLE_EQ(s.views[1].accuracy, 1.0 / 4);  // only pixel 0 matches its one-hot row
 }
 
+TEST(Ovs, LerfMaskScoringOnOvsMasksSkipsAbsentClassesAndCanDownsample) {
+  testing_util::TempDir dir;
+  for (const char* v : {"a.png", "b.png"}) testing_util::write_file(dir / "images" / v, "x");
+  testing_util::write_file(dir / "segmentations/classes.txt", "cup\nbear\n");
+  Mask cup(8, 2), empty(8, 2);
+  for (int x = 0; x < 4; ++x) cup.on[x] = cup.on[8 + x] = 1;  // left half
+  splat::write_mask_png(dir / "segmentations/01/cup.png", 8, 2, cup.on);
+  splat::write_mask_png(dir / "segmentations/01/bear.png", 8, 2, empty.on);
+  const LerfMaskGroundTruth gt = lerf_mask_from_ovs(read_ovs_ground_truth(dir.path()));
+  EXPECT_EQ(gt.test_views, (std::vector<std::string>{"b.png"}));
+  EXPECT_EQ(gt.masks[0].size(), 1u);  // the absent bear is not scored
+  // A 4x1 prediction of the left half, scored at ground-truth width 4.
+  const auto masks_of = [](size_t) { return ObjectMasks{{3, pixels_on(4, 1, {0, 1})}}; };
+  const SceneScore s = score_oracle(gt, masks_of, 4);
+  ASSERT_EQ(s.queries.size(), 1u);
+  EXPECT_EQ(s.queries[0].object, 3);
+  EXPECT_DOUBLE_EQ(s.miou, 1.0);
+}
+
 TEST(Ovs, ReadsTheSyntheticLayoutAndOnly255IsForeground) {
   testing_util::TempDir dir;
   synth::SynthOptions o;
