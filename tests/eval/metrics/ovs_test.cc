@@ -9,6 +9,7 @@
 #include "splat/error.h"
 #include "splat/image.h"
 #include "tests/test_util.h"
+#include "tests/tiny_scene.h"
 
 namespace eval {
 namespace {
@@ -89,15 +90,7 @@ TEST(Ovs, LerfMaskScoringOnOvsMasksSkipsAbsentClassesAndCanDownsample) {
 
 TEST(Ovs, ReadsTheSyntheticLayoutAndOnly255IsForeground) {
   testing_util::TempDir dir;
-  synth::SynthOptions o;
-  o.views = 6;
-  o.width = 64;
-  o.height = 48;
-  o.supersample = 1;
-  o.num_points = 200;
-  o.ovs_dir = dir / "ovs";
-  o.ovs_test_views = 2;
-  synth::generate_scene(o, dir / "lerf", true);
+  testing_util::generate_small_scene_in_both_layouts(dir.path());
   const OvsGroundTruth gt = read_ovs_ground_truth(dir / "ovs");
   EXPECT_TRUE(std::is_sorted(gt.classes.begin(), gt.classes.end()));
   EXPECT_EQ(gt.images.size(), 6u);

@@ -9,6 +9,7 @@
 #include "splat/error.h"
 #include "splat/npy.h"
 #include "tests/test_util.h"
+#include "tests/tiny_scene.h"
 
 namespace splat {
 namespace {
@@ -17,15 +18,7 @@ namespace fs = std::filesystem;
 
 TEST(Llff, PosesMatchTheTrueCamerasAndTheFocalScalesWithTheImages) {
   testing_util::TempDir dir;
-  synth::SynthOptions o;
-  o.views = 6;
-  o.width = 64;
-  o.height = 48;
-  o.supersample = 1;
-  o.num_points = 200;
-  o.ovs_dir = dir / "ovs";
-  o.ovs_test_views = 2;
-  synth::generate_scene(o, dir / "lerf", true);
+  testing_util::generate_small_scene_in_both_layouts(dir.path());
   const ColmapModel truth = read_colmap_model(dir / "lerf/sparse/0");
   std::vector<std::string> names = {"0.png", "1.png", "2.png", "3.png", "4.png", "5.png"};
   // Images at twice the stored size: the focal length doubles.
