@@ -12,8 +12,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> predictions;
   app.add_option("scene", scene, "scene folder with test_mask/ (LERF-Mask layout)")->required();
   app.add_option("--pred", predictions,
-                 "NAME=FOLDER of predictions: <stem>.png label maps or <stem>/<id>.png masks")
-      ->required();
+                 "NAME=FOLDER of predictions: <stem>.png label maps or <stem>/<id>.png masks");
   app.add_option("--out", out, "metrics file to write")->required();
   std::string protocol = "auto";
   app.add_option("--protocol", protocol,
@@ -24,6 +23,11 @@ int main(int argc, char** argv) {
   app.add_option("--truth-width", truth_width,
                  "LERF-Mask scoring: resize the ground truth to this width first (ObjectGS "
                  "scores 3DOVS at 1440)");
+  std::string renders, poses, true_poses;
+  app.add_option("--renders", renders,
+                 "rendered test views (<stem>.png): PSNR and SSIM against the scene's images/");
+  app.add_option("--poses", poses, "a reconstruction (COLMAP model) to score against --true-poses");
+  app.add_option("--true-poses", true_poses, "the true cameras (COLMAP model)");
   return stages::run_stage(app, argc, argv, [&] {
     eval::EvalRunOptions o;
     for (const std::string& p : predictions) {
@@ -41,14 +45,25 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("--protocol must be auto, lerf or 3dovs");
     o.protocol = protocols.at(protocol);
     o.truth_width = truth_width;
+    o.renders = renders;
+    o.poses = poses;
+    o.true_poses = true_poses;
+    if (poses.empty() != true_poses.empty())
+      throw std::invalid_argument("--poses and --true-poses go together");
     const eval::EvalRunResult r = eval::run_evaluation(scene, out, o);
     const bool lerf = r.protocol != eval::Protocol::kOvs;
-    fmt::print("{:<24} {:>8} {:>8}   ({}, oracle)\n", "predictions", "mIoU", lerf ? "mBIoU" : "acc",
-               r.protocol == eval::Protocol::kOvs           ? "3DOVS reference metric"
-               : r.protocol == eval::Protocol::kOvsLerfMask ? "LERF-Mask script on 3DOVS masks"
-                                                            : "LERF-Mask protocol");
+    if (!r.names.empty())
+      fmt::print("{:<24} {:>8} {:>8}   ({}, oracle)\n", "predictions", "mIoU",
+                 lerf ? "mBIoU" : "acc",
+                 r.protocol == eval::Protocol::kOvs           ? "3DOVS reference metric"
+                 : r.protocol == eval::Protocol::kOvsLerfMask ? "LERF-Mask script on 3DOVS masks"
+                                                              : "LERF-Mask protocol");
     for (size_t i = 0; i < r.names.size(); ++i)
       fmt::print("{:<24} {:>8.1f} {:>8.1f}\n", r.names[i], 100 * r.miou[i], 100 * r.second[i]);
+    if (r.psnr >= 0) fmt::print("test views: PSNR {:.2f} dB, SSIM {:.4f}\n", r.psnr, r.ssim);
+    if (r.center_rmse >= 0)
+      fmt::print("poses: camera-centre RMSE {:.5f}, rotation error {:.3f} deg\n", r.center_rmse,
+                 r.rotation_error_deg);
     spdlog::info("per-view figures in {}", out);
   });
 }

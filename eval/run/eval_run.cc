@@ -1,5 +1,6 @@
 #include "eval/run/eval_run.h"
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -8,14 +9,19 @@
 #include "eval/metrics/ovs.h"
 #include "eval/metrics/predictions.h"
 #include "splat/atomic_file.h"
+#include "splat/colmap_model.h"
 #include "splat/error.h"
+#include "splat/image.h"
+#include "splat/sfm/alignment.h"
+#include "splat/train/image_loss.h"
 
 namespace eval {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 void EvalRunOptions::Check() const {
-  if (predictions.empty()) throw std::invalid_argument("no predictions to score");
+  if (predictions.empty() && renders.empty() && poses.empty())
+    throw std::invalid_argument("nothing to score: give predictions, renders or poses");
   std::set<std::string> names;
   for (const auto& p : predictions)
     if (!names.insert(p.name).second)
@@ -62,6 +68,35 @@ json ovs_json(const OvsGroundTruth& gt, const OvsScore& s) {
           {"view_accuracy", accuracy}};
 }
 
+// PSNR and SSIM of every render in `renders` whose image is in the scene.
+json image_quality(const fs::path& scene, const fs::path& renders, EvalRunResult& r) {
+  json views = json::array();
+  double psnr = 0, ssim = 0;
+  std::vector<fs::path> files;
+  for (const auto& f : fs::directory_iterator(renders))
+    if (f.path().extension() == ".png") files.push_back(f.path());
+  std::sort(files.begin(), files.end());
+  for (const fs::path& f : files) {
+    fs::path truth;
+    for (const char* ext : {".png", ".jpg", ".JPG", ".jpeg"})
+      if (fs::exists(scene / "images" / (f.stem().string() + ext)))
+        truth = scene / "images" / (f.stem().string() + ext);
+    if (truth.empty()) continue;
+    const splat::ImageRGB render = splat::read_image_rgb(f);
+    splat::ImageRGB target = splat::read_image_rgb(truth);
+    if (target.width != render.width || target.height != render.height)
+      target = splat::resize_area(target, render.width, render.height);
+    const double p = splat::psnr(render.data, target.data);
+    const double s = splat::ssim(render.data, target.data, render.width, render.height);
+    views.push_back({{"view", truth.filename().string()}, {"psnr", p}, {"ssim", s}});
+    psnr += p, ssim += s;
+  }
+  if (views.empty()) throw splat::InputError(renders, "no render matches an image of the scene");
+  r.psnr = psnr / double(views.size());
+  r.ssim = ssim / double(views.size());
+  return {{"psnr", r.psnr}, {"ssim", r.ssim}, {"views", views}};
+}
+
 Protocol protocol_of(const fs::path& scene, Protocol p) {
   if (p != Protocol::kAuto) return p;
   if (fs::is_directory(scene / "test_mask")) return Protocol::kLerfMask;
@@ -74,9 +109,10 @@ Protocol protocol_of(const fs::path& scene, Protocol p) {
 EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const EvalRunOptions& o) {
   o.Check();
   EvalRunResult r;
-  r.protocol = protocol_of(scene, o.protocol);
-  json results = json::object(), metrics;
-  if (r.protocol != Protocol::kOvs) {
+  json results = json::object(), metrics = json::object();
+  if (o.predictions.empty()) {
+    // Only image quality or poses.
+  } else if ((r.protocol = protocol_of(scene, o.protocol)) != Protocol::kOvs) {
     const bool on_ovs = r.protocol == Protocol::kOvsLerfMask;
     const LerfMaskGroundTruth gt = on_ovs ? lerf_mask_from_ovs(read_ovs_ground_truth(scene))
                                           : read_lerf_mask_ground_truth(scene);
@@ -111,9 +147,19 @@ EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const E
                {"test_views", views},
                {"classes", gt.classes}};
   }
+  if (!o.renders.empty()) metrics["image_quality"] = image_quality(scene, o.renders, r);
+  if (!o.poses.empty()) {
+    const splat::PoseAccuracy acc = splat::pose_accuracy(splat::read_colmap_model(o.poses),
+                                                         splat::read_colmap_model(o.true_poses));
+    r.center_rmse = acc.center_rmse;
+    r.rotation_error_deg = acc.rotation_error_deg;
+    metrics["pose_accuracy"] = {{"matched", acc.matched},
+                                {"center_rmse", acc.center_rmse},
+                                {"rotation_error_deg", acc.rotation_error_deg}};
+  }
   metrics["scene"] = scene.string();
   metrics["mode"] = "oracle";
-  metrics["results"] = results;
+  if (!o.predictions.empty()) metrics["results"] = results;
   splat::write_text_atomically(out, metrics.dump(2) + "\n");
   return r;
 }

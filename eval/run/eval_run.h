@@ -24,7 +24,13 @@ struct EvalRunOptions {
   std::vector<NamedPredictions> predictions;
   Protocol protocol = Protocol::kAuto;  // auto: from the scene's layout
   int truth_width = 0;  // LERF-Mask scoring at this ground-truth width (0: as stored)
-  void Check() const;   // throws std::invalid_argument
+  // Image quality: rendered test views (<stem>.png) against the scene's
+  // images/ (area-resized to the renders' size), PSNR and SSIM.
+  std::filesystem::path renders;
+  // Pose accuracy: a reconstruction against the true cameras (COLMAP models),
+  // after a similarity alignment.
+  std::filesystem::path poses, true_poses;
+  void Check() const;  // throws std::invalid_argument
 };
 
 struct EvalRunResult {
@@ -33,6 +39,9 @@ struct EvalRunResult {
   // Per prediction folder, in [0, 1]: mIoU, and mBIoU (LERF-Mask scoring) or
   // pixel accuracy (the 3DOVS reference metric).
   std::vector<double> miou, second;
+  double psnr = -1, ssim = -1;  // -1 without renders
+  double center_rmse = -1;      // -1 without poses
+  double rotation_error_deg = -1;
 };
 
 // Scores every prediction folder; writes metrics.json (atomically) to `out`.

@@ -125,6 +125,13 @@ TEST(StageTwo, RendersMasksLabelMapsAndObjectModels) {
   ASSERT_EQ(scores.miou.size(), 2u);
   EXPECT_GT(scores.miou[0], 0.3);  // a very short run, but well above chance
   EXPECT_TRUE(fs::exists(a / "metrics.json"));
+  eval::EvalRunOptions quality;
+  quality.renders = a / "render/rgb";
+  quality.poses = quality.true_poses = scene() / "sparse/0";
+  const eval::EvalRunResult q = eval::run_evaluation(scene(), a / "quality.json", quality);
+  EXPECT_GT(q.psnr, 15.0);  // rendered test views against the photos
+  EXPECT_GT(q.ssim, 0.3);
+  EXPECT_LT(q.center_rmse, 1e-9);  // the true cameras against themselves
 
   // One object, and the scene without it, partition the model.
   const GaussianModel m = read_model_file(r.model).model;
