@@ -9,6 +9,7 @@
 // reference implementation's features_rest tensor; the PLY file stores them
 // channel-major and the PLY I/O converts.
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -18,6 +19,10 @@ namespace splat {
 inline constexpr int kMaxShDegree = 3;
 inline constexpr int kShRestCoeffs = 15;                 // (3+1)^2 - 1
 inline constexpr int kShRestFloats = 3 * kShRestCoeffs;  // 45
+
+// The activations of the stored opacities: sigma = sigmoid(logit).
+inline float sigmoid(float x) { return 1.f / (1.f + std::exp(-x)); }
+inline float logit(float p) { return std::log(p / (1 - p)); }
 
 struct GaussianModel {
   std::vector<float> means;           // 3 per Gaussian

@@ -4,10 +4,12 @@
 
 #include <spdlog/spdlog.h>
 #include <sys/resource.h>
+#include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
 #include <exception>
 #include <functional>
+#include <optional>
 
 #include "splat/error.h"
 #include "splat/train/trainer.h"
@@ -20,6 +22,18 @@ inline double peak_rss_mib() {
   getrusage(RUSAGE_SELF, &usage);
   return usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
 }
+
+// Limits the worker threads of the library's parallel loops for as long as
+// it lives (the --threads option; 0: all cores).
+class ThreadLimit {
+ public:
+  explicit ThreadLimit(int threads) {
+    if (threads > 0) limit_.emplace(tbb::global_control::max_allowed_parallelism, threads);
+  }
+
+ private:
+  std::optional<tbb::global_control> limit_;
+};
 
 // The --split option of the stages that read a scene's train/test split.
 inline splat::SplitRule parse_split(const std::string& name) {

@@ -10,7 +10,7 @@ namespace {
 // opacity reset hurts, as the opacities have not recovered yet.
 void warn_if_just_after_reset(const std::filesystem::path& checkpoint,
                               const std::filesystem::path& stage_one_work) {
-  const int start = splat::read_checkpoint_model(checkpoint).iteration;
+  const int start = splat::read_checkpoint_iteration(checkpoint);
   const int reset = splat::last_opacity_reset(stage_one_work, start);
   if (reset >= 0 && start - reset < 1000)
     spdlog::warn(

@@ -1,10 +1,6 @@
 // op2gs-render: colour, object masks, label maps and object operations of a
 // stage-two model, for chosen views or a camera path.
 
-#include <tbb/global_control.h>
-
-#include <optional>
-
 #include "splat/label/render_run.h"
 #include "splat/label/vote_run.h"
 #include "splat/ply.h"
@@ -49,8 +45,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
   return stages::run_stage(app, argc, argv, [&] {
-    std::optional<tbb::global_control> limit;
-    if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, threads);
+    const stages::ThreadLimit limit(threads);
     const std::filesystem::path w = work;
     o.model =
         model.empty() ? w / "learn" / "checkpoints" / "latest.ckpt" : std::filesystem::path(model);

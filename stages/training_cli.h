@@ -2,10 +2,6 @@
 // The command-line options op2gs-train and op2gs-learn share (the run's
 // length, resolution, split, outputs, threads), and their summary at the end.
 
-#include <tbb/global_control.h>
-
-#include <optional>
-
 #include "splat/train/train_run.h"
 #include "stages/common.h"
 
@@ -42,7 +38,7 @@ class TrainingCli {
   // Moves the parsed values into the options and limits the threads (for as
   // long as this object lives).
   void apply() {
-    if (threads_ > 0) limit_.emplace(tbb::global_control::max_allowed_parallelism, threads_);
+    limit_.emplace(threads_);
     o_.train.scene.downscale = resolution_;
     o_.train.scene.cache_bytes = size_t(cache_mb_ * (1 << 20));
     if (!background_.empty()) std::copy_n(background_.begin(), 3, o_.train.background);
@@ -63,7 +59,7 @@ class TrainingCli {
   int resolution_ = 1, threads_ = 0;
   double cache_mb_ = 2048;
   std::vector<float> background_;
-  std::optional<tbb::global_control> limit_;
+  std::optional<ThreadLimit> limit_;
 };
 
 }  // namespace stages

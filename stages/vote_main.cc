@@ -1,10 +1,6 @@
 // op2gs-vote: label every Gaussian of the stage-one model by majority vote of
 // the scene's ID maps (SAM2 masks), and render the ablation's baseline masks.
 
-#include <tbb/global_control.h>
-
-#include <optional>
-
 #include "splat/label/vote_run.h"
 #include "stages/common.h"
 
@@ -40,8 +36,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
   return stages::run_stage(app, argc, argv, [&] {
-    std::optional<tbb::global_control> limit;
-    if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, threads);
+    const stages::ThreadLimit limit(threads);
     o.scene.downscale = resolution;
     o.model = model;
     o.split = stages::parse_split(split);

@@ -33,11 +33,10 @@ inline std::filesystem::path generate_tiny_scene(const std::string& name) {
 // A 6-view 64x48 scene written in both layouts: LERF-Mask into dir/lerf
 // (with its true sparse/0) and 3DOVS into dir/ovs (2 segmented views).
 inline void generate_small_scene_in_both_layouts(const std::filesystem::path& dir) {
-  synth::SynthOptions o;
+  synth::SynthOptions o = tiny_scene_options();
   o.views = 6;
   o.width = 64;
   o.height = 48;
-  o.supersample = 1;
   o.num_points = 200;
   o.ovs_dir = dir / "ovs";
   o.ovs_test_views = 2;

@@ -19,7 +19,7 @@ size_t Mask::count() const {
   return n;
 }
 
-Mask read_mask(const fs::path& file) {
+splat::IdMap read_grey_like_pillow(const fs::path& file) {
   auto in = OIIO::ImageInput::open(file.string());
   if (!in) throw splat::InputError(file, "cannot read the mask: " + OIIO::geterror());
   const OIIO::ImageSpec spec = in->spec();
@@ -30,20 +30,22 @@ Mask read_mask(const fs::path& file) {
   // below match Pillow's integer arithmetic.
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT16, px.data()))
     throw splat::InputError(file, "cannot decode the mask: " + in->geterror());
-  Mask m(spec.width, spec.height);
-  for (size_t p = 0; p < m.on.size(); ++p) {
+  splat::IdMap grey(spec.width, spec.height);
+  // OpenImageIO scales 8-bit values by 257 when reading them as 16 bit.
+  const auto v8 = [&](uint16_t v) { return sixteen ? std::min<int>(v, 255) : v / 257; };
+  for (size_t p = 0; p < grey.ids.size(); ++p) {
     const uint16_t* c = &px[p * channels];
-    int value;
-    if (channels >= 3) {
-      // OpenImageIO scaled 8-bit values by 257; Pillow's L = (19595 R +
-      // 38470 G + 7471 B + 0x8000) >> 16 on the 8-bit values.
-      const auto v8 = [&](int k) { return sixteen ? std::min(c[k], uint16_t(255)) : c[k] / 257; };
-      value = (19595 * v8(0) + 38470 * v8(1) + 7471 * v8(2) + 0x8000) >> 16;
-    } else {
-      value = sixteen ? std::min<int>(c[0], 255) : c[0] / 257;
-    }
-    m.on[p] = value > 128;
+    grey.ids[p] = uint16_t(
+        channels >= 3 ? (19595 * v8(c[0]) + 38470 * v8(c[1]) + 7471 * v8(c[2]) + 0x8000) >> 16
+                      : v8(c[0]));
   }
+  return grey;
+}
+
+Mask read_mask(const fs::path& file) {
+  const splat::IdMap grey = read_grey_like_pillow(file);
+  Mask m(grey.width, grey.height);
+  for (size_t p = 0; p < m.on.size(); ++p) m.on[p] = grey.ids[p] > 128;
   return m;
 }
 

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <vector>
 
+#include "splat/image.h"
+
 namespace eval {
 
 struct Mask {
@@ -16,6 +18,11 @@ struct Mask {
   Mask(int w, int h) : width(w), height(h), on(size_t(w) * h, 0) {}
   size_t count() const;
 };
+
+// Reads an image as 8-bit grey the way Pillow's convert('L') does: RGB
+// through ITU-R 601 luma in integer arithmetic, 16-bit grey clipped to 255.
+// Throws splat::InputError naming the file.
+splat::IdMap read_grey_like_pillow(const std::filesystem::path& file);
 
 // Reads a mask as the reference does: 8-bit grey (RGB through Pillow's
 // ITU-R 601 luma, 16-bit grey clipped to 255 as Pillow converts it), then

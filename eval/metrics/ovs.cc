@@ -1,7 +1,5 @@
 #include "eval/metrics/ovs.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <fstream>
 #include <stdexcept>
@@ -52,20 +50,7 @@ OvsGroundTruth read_ovs_ground_truth(const fs::path& scene) {
 
 Mask read_ovs_mask(const fs::path& file, int width, int height) {
   if (file.empty()) return Mask(width, height);
-  auto in = OIIO::ImageInput::open(file.string());
-  if (!in) throw splat::InputError(file, "cannot read the mask: " + OIIO::geterror());
-  const OIIO::ImageSpec spec = in->spec();
-  std::vector<uint8_t> px(size_t(spec.width) * spec.height * spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, px.data()))
-    throw splat::InputError(file, "cannot decode the mask: " + in->geterror());
-  splat::IdMap grey(spec.width, spec.height);
-  for (size_t p = 0; p < grey.ids.size(); ++p) {
-    const uint8_t* c = &px[p * spec.nchannels];
-    // Pillow's 'L' conversion of RGB; grey is taken as it is.
-    grey.ids[p] = spec.nchannels >= 3
-                      ? uint16_t((19595 * c[0] + 38470 * c[1] + 7471 * c[2] + 0x8000) >> 16)
-                      : c[0];
-  }
+  const splat::IdMap grey = read_grey_like_pillow(file);
   const splat::IdMap r = splat::resize_id_map_nearest(grey, width, height);
   Mask m(width, height);
   for (size_t p = 0; p < m.on.size(); ++p) m.on[p] = r.ids[p] == 255;

@@ -16,6 +16,24 @@ fs::path find_id_map(const fs::path& folder, const std::string& view_name) {
   return fs::is_regular_file(file) ? file : fs::path();
 }
 
+fs::path require_id_map(const fs::path& folder, const std::string& view_name,
+                        const std::string& hint) {
+  const fs::path file = find_id_map(folder, view_name);
+  if (file.empty())
+    throw InputError(folder / (fs::path(view_name).stem().string() + ".png"),
+                     "no ID map for training view " + view_name + (hint.empty() ? "" : " " + hint));
+  return file;
+}
+
+std::vector<int32_t> ids_in_map(const IdMap& map) {
+  std::vector<uint8_t> seen(65536, 0);
+  for (uint16_t id : map.ids) seen[id] = 1;
+  std::vector<int32_t> ids;
+  for (int32_t id = 0; id < 65536; ++id)
+    if (seen[id]) ids.push_back(id);
+  return ids;
+}
+
 namespace {
 // Source index of every destination index, as Pillow's nearest filter picks it.
 std::vector<int> nearest_sources(int src, int dst) {

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "splat/image.h"
 
@@ -14,6 +15,14 @@ namespace splat {
 // <folder>/<stem of view_name>.png; empty if there is no such file.
 std::filesystem::path find_id_map(const std::filesystem::path& folder,
                                   const std::string& view_name);
+
+// The ID map of a view, or an InputError naming the missing file ("no ID map
+// for training view <name>", then `hint` if given).
+std::filesystem::path require_id_map(const std::filesystem::path& folder,
+                                     const std::string& view_name, const std::string& hint = "");
+
+// The distinct IDs in a map, ascending (0, background, included if present).
+std::vector<int32_t> ids_in_map(const IdMap& map);
 
 // Nearest-neighbour resize with Pillow's sampling rule (source index
 // floor(0.5 * s/d + x * s/d), accumulated in double), the rule the benchmark

@@ -1,5 +1,6 @@
 #include "splat/label/palette.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace splat {
@@ -22,6 +23,16 @@ ImageRGB colorize_labels(const std::vector<int32_t>& labels, int width, int heig
     for (int k = 0; k < 3; ++k) image.data[3 * p + k] = c[k];
   }
   return image;
+}
+
+void write_label_map(const std::filesystem::path& folder, const std::string& stem,
+                     const std::vector<int32_t>& labels, int width, int height) {
+  IdMap ids(width, height);
+  for (size_t p = 0; p < ids.ids.size(); ++p)
+    ids.ids[p] = uint16_t(std::clamp(labels[p], 0, 65535));
+  write_id_map(folder / (stem + ".png"), ids, 16);
+  write_image_rgb(folder.parent_path() / (folder.filename().string() + "_color") / (stem + ".png"),
+                  colorize_labels(labels, width, height));
 }
 
 }  // namespace splat

@@ -29,8 +29,6 @@ void RenderRunOptions::Check() const {
 
 namespace {
 
-float sigmoid(float x) { return 1.f / (1.f + std::exp(-x)); }
-
 std::vector<uint8_t> object_membership(const GaussianModel& m, int32_t object, float min_sigma) {
   if (!m.has_labels) throw std::invalid_argument("the model has no labels (run op2gs-vote)");
   std::vector<uint8_t> in(m.size(), 0);
@@ -86,14 +84,6 @@ ImageRGB to_image(const std::vector<float>& color, int w, int h) {
   return image;
 }
 
-void write_label_map(const fs::path& out, const std::string& folder, const std::string& stem,
-                     const std::vector<int32_t>& labels, int w, int h) {
-  IdMap ids(w, h);
-  for (size_t p = 0; p < labels.size(); ++p) ids.ids[p] = uint16_t(std::clamp(labels[p], 0, 65535));
-  write_id_map(out / folder / (stem + ".png"), ids, 16);
-  write_image_rgb(out / (folder + "_color") / (stem + ".png"), colorize_labels(labels, w, h));
-}
-
 // Every mask and image of one shot.
 void write_shot(const fs::path& out, const Shot& shot, const RenderOutput& r,
                 const RenderRunOptions& o) {
@@ -129,8 +119,8 @@ void write_shot(const fs::path& out, const Shot& shot, const RenderOutput& r,
     }
   }
   write_image_rgb(out / "masks_color" / (shot.stem + ".png"), overlay);
-  write_label_map(out, "instance_labels", shot.stem, r.instance_label, W, H);
-  write_label_map(out, "baseline_labels", shot.stem, r.baseline_label, W, H);
+  write_label_map(out / "instance_labels", shot.stem, r.instance_label, W, H);
+  write_label_map(out / "baseline_labels", shot.stem, r.baseline_label, W, H);
 }
 
 double milliseconds_of(const std::function<void()>& f) {

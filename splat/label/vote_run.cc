@@ -41,17 +41,8 @@ struct PreparedView {
   Camera camera;  // at the ID map's resolution
   IdMap ids;
   DepthMap depth;
-  std::vector<uint16_t> ids_present;
+  std::vector<int32_t> ids_present;
 };
-
-std::vector<uint16_t> distinct_ids(const IdMap& map) {
-  std::vector<uint8_t> seen(65536, 0);
-  for (uint16_t id : map.ids) seen[id] = 1;
-  std::vector<uint16_t> ids;
-  for (size_t id = 0; id < seen.size(); ++id)
-    if (seen[id]) ids.push_back(uint16_t(id));
-  return ids;
-}
 
 // Names of the IDs from <id maps>/objects.json: [{"id": 1, "name": ...}] or
 // {"1": "name"}. Anything else is ignored with a warning: names are optional.
@@ -112,11 +103,7 @@ std::vector<size_t> views_with_maps(const Scene& scene, const std::vector<size_t
       used.push_back(v);
       continue;
     }
-    if (!allow_missing)
-      throw InputError(folder / (stem_of(name) + ".png"),
-                       fmt::format("no ID map for training view {} (--allow-missing skips such "
-                                   "views)",
-                                   name));
+    if (!allow_missing) require_id_map(folder, name, "(--allow-missing skips such views)");
     spdlog::warn("no ID map for training view {}; skipped", name);
     skipped.push_back(name);
   }
@@ -210,13 +197,13 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& work, const 
                    check_id_map_aspect(file, p->ids, view.camera.width, view.camera.height);
                    p->camera = view.camera.resized(p->ids.width, p->ids.height);
                    if (cull) p->depth = render_depth_map(renderer, model, p->camera, o.vote);
-                   p->ids_present = distinct_ids(p->ids);
+                   p->ids_present = ids_in_map(p->ids);
                    return p;
                  }) &
              tbb::make_filter<std::shared_ptr<PreparedView>, void>(
                  tbb::filter_mode::serial_in_order, [&](const std::shared_ptr<PreparedView>& p) {
                    votes.add_view(model, p->camera, p->ids, cull ? &p->depth : nullptr, o.vote);
-                   for (uint16_t id : p->ids_present) ++views_per_id[id];
+                   for (int32_t id : p->ids_present) ++views_per_id[id];
                  }));
   result.views_used = used.size();
   model.labels = votes.labels();
@@ -253,12 +240,7 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& work, const 
     for (size_t v : split.test) {
       const View& view = scene->views()[v];
       const RenderOutput r = renderer.render(model, view.camera, settings);
-      IdMap ids(r.width, r.height);
-      for (size_t p = 0; p < ids.ids.size(); ++p)
-        ids.ids[p] = uint16_t(std::clamp(r.baseline_label[p], 0, 65535));
-      write_id_map(out / "baseline" / (stem_of(view.name) + ".png"), ids, 16);
-      write_image_rgb(out / "baseline_color" / (stem_of(view.name) + ".png"),
-                      colorize_labels(r.baseline_label, r.width, r.height));
+      write_label_map(out / "baseline", stem_of(view.name), r.baseline_label, r.width, r.height);
     }
     summary["baseline_views"] = split.test.size();
   }

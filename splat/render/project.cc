@@ -50,8 +50,6 @@ void ProjectedGradients::resize(size_t n) {
 
 namespace {
 
-float sigmoid(float x) { return 1.f / (1.f + std::exp(-x)); }
-
 // Rotation matrix of the normalised quaternion w x y z.
 Mat3 quaternion_matrix(float w, float x, float y, float z) {
   Mat3 R;

@@ -76,27 +76,26 @@ class Steps {
   fs::path out_;
 };
 
-bool want_gpu(const SfmOptions& o) {
+// colmap_has_cuda: what ColmapCommand::available found.
+bool want_gpu(const SfmOptions& o, bool colmap_has_cuda) {
   if (o.gpu != SfmOptions::Gpu::kAuto) return o.gpu == SfmOptions::Gpu::kOn;
-  bool cuda = false;
-  o.colmap.available(&cuda);
-  return cuda && fs::exists("/dev/nvidia0");
+  return colmap_has_cuda && fs::exists("/dev/nvidia0");
 }
 
 // "1,2.5,3": COLMAP's list syntax for camera parameters.
 std::string join(const std::vector<double>& v) { return fmt::format("{}", fmt::join(v, ",")); }
 
-// The index and image count of the model with the most registered images.
-std::pair<int, size_t> largest_model(const fs::path& sparse_raw, size_t* models) {
-  int best = -1;
-  size_t best_images = 0;
+// The model with the most registered images, and its index (-1 if there is
+// no model).
+std::pair<int, ColmapModel> largest_model(const fs::path& sparse_raw, size_t* models) {
+  std::pair<int, ColmapModel> best{-1, {}};
   *models = 0;
   for (int k = 0; fs::is_directory(sparse_raw / std::to_string(k)); ++k) {
     ++*models;
-    const size_t n = read_colmap_model(sparse_raw / std::to_string(k)).images.size();
-    if (n > best_images) best = k, best_images = n;
+    ColmapModel m = read_colmap_model(sparse_raw / std::to_string(k));
+    if (m.images.size() > best.second.images.size()) best = {k, std::move(m)};
   }
-  return {best, best_images};
+  return best;
 }
 
 bool is_pinhole(const ColmapModel& m) {
@@ -150,7 +149,8 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
   SfmOptions o = options;
   fs::create_directories(out);
   o.colmap.log_file = out / "colmap.log";
-  if (!o.colmap.available())
+  bool cuda = false;
+  if (!o.colmap.available(&cuda))
     throw ColmapError(
         fmt::format("`{}` does not run: install COLMAP with `apt-get install "
                     "colmap` (scripts/setup.sh does), or give its path with --colmap",
@@ -158,7 +158,7 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
   const fs::path images = scene_dir / o.images_dir;
   const std::vector<std::string> names = image_names(images);
   const fs::path db = out / "database.db", raw = out / "sparse_raw", und = out / "undistorted";
-  const bool gpu = want_gpu(o);
+  const bool gpu = want_gpu(o, cuda);
   const std::string use_gpu = gpu ? "1" : "0";
   Steps steps(out);
   std::string fp = fmt::format("images {}\n", fmt::join(names, "\n"));
@@ -252,13 +252,12 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
 
   SfmResult r;
   r.views = names.size();
-  const auto [kept, registered] = largest_model(raw, &r.models);
+  const auto [kept, model] = largest_model(raw, &r.models);
   if (kept < 0)
     throw ColmapError("mapping made no model: no two views could be matched; log " +
                       o.colmap.log_file.string());
   r.kept_model = kept;
-  r.registered = registered;
-  const ColmapModel model = read_colmap_model(raw / std::to_string(kept));
+  r.registered = model.images.size();
   std::set<std::string> in_model;
   for (const auto& [id, image] : model.images) in_model.insert(image.name);
   for (const std::string& n : names)

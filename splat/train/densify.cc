@@ -10,9 +10,6 @@ namespace splat {
 
 namespace {
 
-float sigmoid(float x) { return 1.f / (1.f + std::exp(-x)); }
-float logit(float p) { return std::log(p / (1 - p)); }
-
 // Appends a copy of Gaussian i (every parameter, label included).
 void append_copy(GaussianModel& m, size_t i) {
   const size_t n = m.size();

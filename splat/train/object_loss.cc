@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "splat/label/id_maps.h"
+
 namespace splat {
 
 void ObjectLossOptions::Check() const {
@@ -13,12 +15,9 @@ void ObjectLossOptions::Check() const {
 }
 
 std::vector<int32_t> objects_in_map(const IdMap& ids) {
-  std::vector<uint8_t> seen(65536, 0);
-  for (uint16_t id : ids.ids) seen[id] = 1;
-  std::vector<int32_t> out;
-  for (int32_t id = 1; id < 65536; ++id)
-    if (seen[id]) out.push_back(id);
-  return out;
+  std::vector<int32_t> objects = ids_in_map(ids);
+  if (!objects.empty() && objects.front() == 0) objects.erase(objects.begin());
+  return objects;
 }
 
 std::vector<int32_t> sample_objects(const std::vector<int32_t>& present, int m,

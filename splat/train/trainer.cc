@@ -81,10 +81,7 @@ void Trainer::start_instance_learning(const std::vector<int32_t>& labels) {
   adam_.reset_moments(ParamGroup::kInstanceOpacity);
   if (options_.object_loss.weight <= 0) return;
   const fs::path folder = scene_->root() / options_.object_loss.id_maps;
-  for (size_t v : split_.train)
-    if (find_id_map(folder, scene_->views()[v].name).empty())
-      throw InputError(folder / (fs::path(scene_->views()[v].name).stem().string() + ".png"),
-                       "no ID map for training view " + scene_->views()[v].name);
+  for (size_t v : split_.train) require_id_map(folder, scene_->views()[v].name);
 }
 
 bool Trainer::learns_instances() const {
@@ -96,10 +93,7 @@ const Trainer::ObjectMap& Trainer::object_map(size_t view) {
   if (!object_maps_[view]) {
     const View& v = scene_->views()[view];
     const fs::path folder = scene_->root() / options_.object_loss.id_maps;
-    const fs::path file = find_id_map(folder, v.name);
-    if (file.empty())
-      throw InputError(folder / (fs::path(v.name).stem().string() + ".png"),
-                       "no ID map for training view " + v.name);
+    const fs::path file = require_id_map(folder, v.name);
     auto m = std::make_unique<ObjectMap>();
     m->ids = read_id_map_for_view(file, v.camera.width, v.camera.height);
     m->objects = objects_in_map(m->ids);
@@ -284,8 +278,9 @@ void Trainer::save_checkpoint(const fs::path& file) const {
 }
 
 namespace {
-// Reads the header and the model; leaves `in` at the optimiser state.
-CheckpointModel read_checkpoint_head(std::istream& in, const fs::path& file) {
+// Reads the header and, if with_model, the model; leaves `in` after them.
+CheckpointModel read_checkpoint_head(std::istream& in, const fs::path& file,
+                                     bool with_model = true) {
   char magic[8];
   if (!in.read(magic, 8) || !std::equal(magic, magic + 8, kMagic))
     throw InputError(file, "not an op2gs checkpoint");
@@ -293,20 +288,30 @@ CheckpointModel read_checkpoint_head(std::istream& in, const fs::path& file) {
   CheckpointModel c;
   c.iteration = read_pod<int32_t>(in);
   c.sh_degree = read_pod<int32_t>(in);
-  c.model = read_model(in);
+  if (with_model) c.model = read_model(in);
   return c;
 }
-}  // namespace
 
-CheckpointModel read_checkpoint_model(const fs::path& file) {
-  std::istringstream in(read_text_file(file), std::ios::binary);
+CheckpointModel read_checkpoint(std::istream& in, const fs::path& file, bool with_model) {
   try {
-    return read_checkpoint_head(in, file);
+    return read_checkpoint_head(in, file, with_model);
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
     throw InputError(file, std::string("corrupt checkpoint: ") + e.what());
   }
+}
+}  // namespace
+
+CheckpointModel read_checkpoint_model(const fs::path& file) {
+  std::istringstream in(read_text_file(file), std::ios::binary);
+  return read_checkpoint(in, file, true);
+}
+
+int read_checkpoint_iteration(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file, "cannot read the checkpoint");
+  return read_checkpoint(in, file, false).iteration;
 }
 
 void Trainer::load_checkpoint(const fs::path& file) {

@@ -102,6 +102,8 @@ struct CheckpointModel {
   int sh_degree = 0;
 };
 CheckpointModel read_checkpoint_model(const std::filesystem::path& file);
+// The iteration a checkpoint was saved at, from its header alone.
+int read_checkpoint_iteration(const std::filesystem::path& file);
 
 class Trainer {
  public:

@@ -46,7 +46,7 @@ const fs::path& stage_one_work() {
 }
 fs::path scene() { return stage_one_work() / "scene"; }
 
-TrainRunOptions learn_options(const fs::path& work, int stop_at) {
+TrainRunOptions learn_options(int stop_at) {
   TrainRunOptions o;
   o.stop_at = stop_at;
   o.train.total_iterations = 1000;
@@ -58,15 +58,9 @@ TrainRunOptions learn_options(const fs::path& work, int stop_at) {
   return o;
 }
 
-// A copy of stage one's work folder to continue in.
-fs::path fresh_work(const TempDir& dir) {
-  fs::copy(stage_one_work() / "work", dir.path(), fs::copy_options::recursive);
-  return dir.path();
-}
-
 TEST(StageTwo, LearnsSigmaStarWithTheObjectLossAndResumesExactly) {
   TempDir a, b;
-  run_training(scene(), a / "learn", learn_options(a.path(), 400));
+  run_training(scene(), a / "learn", learn_options(400));
   const GaussianModel m = read_gaussian_ply(a / "learn/point_cloud/iteration_400/point_cloud.ply");
   const GaussianModel stage_one = read_gaussian_ply(stage_one_work() / "work/vote/point_cloud.ply");
   ASSERT_TRUE(m.has_instance_opacity && m.has_labels);
@@ -81,8 +75,8 @@ TEST(StageTwo, LearnsSigmaStarWithTheObjectLossAndResumesExactly) {
   EXPECT_EQ(with_object_loss, 100);
 
   // Stopped at 350 and resumed: the same model as the uninterrupted run.
-  run_training(scene(), b / "learn", learn_options(b.path(), 350));
-  TrainRunOptions resume = learn_options(b.path(), 400);
+  run_training(scene(), b / "learn", learn_options(350));
+  TrainRunOptions resume = learn_options(400);
   resume.resume = true;
   run_training(scene(), b / "learn", resume);
   EXPECT_EQ(read_gaussian_ply(b / "learn/point_cloud/iteration_400/point_cloud.ply"), m);
@@ -93,14 +87,14 @@ TEST(StageTwo, LabelsOfAnotherModelAreRejected) {
   GaussianModel other = read_gaussian_ply(stage_one_work() / "work/vote/point_cloud.ply");
   other.means[0] += 1;
   write_gaussian_ply(a / "other.ply", other);
-  TrainRunOptions o = learn_options(a.path(), 400);
+  TrainRunOptions o = learn_options(400);
   o.labels_model = a / "other.ply";
   EXPECT_THROW(run_training(scene(), a / "learn", o), InputError);
 }
 
 TEST(StageTwo, RendersMasksLabelMapsAndObjectModels) {
   TempDir a;
-  run_training(scene(), a / "learn", learn_options(a.path(), 350));
+  run_training(scene(), a / "learn", learn_options(350));
   RenderRunOptions r;
   r.model = a / "learn/checkpoints/latest.ckpt";
   r.object_images = r.occupancy = true;

@@ -33,6 +33,19 @@ IdMap uniform_map(int size, uint16_t id) {
   return m;
 }
 
+VoteOptions frustum_only() {
+  VoteOptions o;
+  o.visibility = VoteVisibility::kFrustum;
+  return o;
+}
+
+// One small Gaussian 4 units in front of a camera at the origin.
+struct OneGaussian {
+  GaussianModel model;
+  Camera camera = camera_at({0, 0, 0}, {0, 0, 4});
+  OneGaussian() { add_gaussian(model, {0, 0, 4}, 0.05f); }
+};
+
 // A big opaque Gaussian at z = 2 hides a small one at z = 4 from a camera at
 // the origin; a second camera sees the small one from the side.
 struct OcclusionCase {
@@ -71,11 +84,10 @@ TEST(Vote, OccludedGaussianDoesNotVoteInTheOccludingView) {
 }
 
 TEST(Vote, MajorityWinsAndTiesGoToTheSmallestId) {
-  GaussianModel m;
-  add_gaussian(m, {0, 0, 4}, 0.05f);
-  const Camera cam = camera_at({0, 0, 0}, {0, 0, 4});
-  VoteOptions o;
-  o.visibility = VoteVisibility::kFrustum;
+  const OneGaussian g;
+  const GaussianModel& m = g.model;
+  const Camera& cam = g.camera;
+  const VoteOptions o = frustum_only();
   LabelVotes votes(1);
   votes.add_view(m, cam, uniform_map(64, 7), nullptr, o);
   votes.add_view(m, cam, uniform_map(64, 3), nullptr, o);
@@ -93,8 +105,7 @@ TEST(Vote, BackgroundVotesCountAndUnseenGaussiansGetZero) {
   add_gaussian(m, {50, 0, 4}, 0.05f);    // outside the image
   add_gaussian(m, {0, 0, 0.1f}, 0.05f);  // in front of the near plane
   const Camera cam = camera_at({0, 0, 0}, {0, 0, 4});
-  VoteOptions o;
-  o.visibility = VoteVisibility::kFrustum;
+  const VoteOptions o = frustum_only();
   LabelVotes votes(m.size());
   votes.add_view(m, cam, uniform_map(64, 0), nullptr, o);
   votes.add_view(m, cam, uniform_map(64, 0), nullptr, o);
@@ -109,11 +120,10 @@ TEST(Vote, BackgroundVotesCountAndUnseenGaussiansGetZero) {
 }
 
 TEST(Vote, ManyDistinctIdsAreCountedExactly) {
-  GaussianModel m;
-  add_gaussian(m, {0, 0, 4}, 0.05f);
-  const Camera cam = camera_at({0, 0, 0}, {0, 0, 4});
-  VoteOptions o;
-  o.visibility = VoteVisibility::kFrustum;
+  const OneGaussian g;
+  const GaussianModel& m = g.model;
+  const Camera& cam = g.camera;
+  const VoteOptions o = frustum_only();
   LabelVotes votes(1);
   // ID k gets k votes for k = 1..6, more IDs than are counted inline.
   for (uint16_t k = 1; k <= 6; ++k)
@@ -131,8 +141,7 @@ TEST(Vote, ReadsTheIdAtTheCentresPixel) {
   IdMap ids(64, 64);  // a different ID in each quarter
   for (int y = 0; y < 64; ++y)
     for (int x = 0; x < 64; ++x) ids.at(x, y) = uint16_t(1 + (x >= 32) + 2 * (y >= 32));
-  VoteOptions o;
-  o.visibility = VoteVisibility::kFrustum;
+  const VoteOptions o = frustum_only();
   LabelVotes votes(2);
   votes.add_view(m, cam, ids, nullptr, o);
   const Eigen::Vector2d p = cam.project({-1, -1, 4});

@@ -166,7 +166,9 @@ TEST(RendererBackward, ObjectLossNeverReachesOpacityOrColour) {
     for (int k = 0; k < 3; ++k)
       geometry += std::abs(grads.means[3 * i + k]) + std::abs(grads.log_scales[3 * i + k]);
     // Gaussians of unselected labels get no sigma* gradient.
-    if (m.labels[i] == 0 || m.labels[i] == 3) ASSERT_EQ(grads.instance_opacity_logits[i], 0.f);
+    if (m.labels[i] == 0 || m.labels[i] == 3) {
+      ASSERT_EQ(grads.instance_opacity_logits[i], 0.f);
+    }
   }
   EXPECT_GT(star, 0.0);
   EXPECT_GT(geometry, 0.0);
