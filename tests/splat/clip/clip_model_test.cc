@@ -1,0 +1,163 @@
+// The C++ CLIP against the PyTorch reference of scripts/make_tiny_clip.py:
+// the tiny fixture in tests/fixtures/tiny_clip has the ViT-B/16 architecture
+// and file layout with random weights; reference.json holds what PyTorch
+// computed from it (in float64).
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "splat/atomic_file.h"
+#include "splat/clip/clip_model.h"
+#include "splat/clip/safetensors.h"
+#include "splat/clip/tokenizer.h"
+#include "splat/error.h"
+#include "tests/test_util.h"
+
+namespace splat {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+const fs::path kFixture = fs::path(OP2GS_SOURCE_DIR) / "tests" / "fixtures" / "tiny_clip";
+
+const json& reference() {
+  static const json r = json::parse(read_text_file(kFixture / "reference.json"));
+  return r;
+}
+
+const ClipModel& tiny_model() {
+  static const ClipModel m = ClipModel::load(ClipFiles::in(kFixture));
+  return m;
+}
+
+double max_abs_difference(const Eigen::VectorXf& a, const std::vector<double>& b) {
+  EXPECT_EQ(size_t(a.size()), b.size());
+  double d = 0;
+  for (size_t i = 0; i < b.size() && i < size_t(a.size()); ++i)
+    d = std::max(d, std::abs(double(a[Eigen::Index(i)]) - b[i]));
+  return d;
+}
+
+TEST(ClipTokenizer, MatchesReferenceTokenIdsOnTrickyStrings) {
+  const ClipTokenizer tokenizer(kFixture / "vocab.json", kFixture / "merges.txt");
+  size_t checked = 0;
+  for (const json& t : reference()["tokens"]) {
+    const std::string text = t["text"];
+    EXPECT_EQ(tokenizer.encode(text), t["ids"].get<std::vector<int32_t>>()) << "text: " << text;
+    ++checked;
+  }
+  EXPECT_GE(checked, 10u);
+}
+
+TEST(ClipTokenizer, TruncatesAt77TokensEndingWithEndOfText) {
+  const ClipTokenizer tokenizer(kFixture / "vocab.json", kFixture / "merges.txt");
+  std::string text;
+  for (int i = 0; i < 100; ++i) text += "chair ";
+  const std::vector<int32_t> ids = tokenizer.encode(text);
+  ASSERT_EQ(ids.size(), 77u);
+  EXPECT_EQ(ids.front(), tokenizer.start_token());
+  EXPECT_EQ(ids.back(), tokenizer.end_token());
+  EXPECT_EQ(tokenizer.encode("").size(), 2u);
+}
+
+TEST(ClipTokenizer, CleansLikeThePythonReference) {
+  EXPECT_EQ(ClipTokenizer::clean("  The\t RED\u00a0Chair \n"), "the red chair");
+  EXPECT_EQ(ClipTokenizer::clean("fish &amp;amp; chips &#x263A; &ampx"), "fish & chips \u263a &x");
+  EXPECT_EQ(ClipTokenizer::clean("\u0130"), "i\u0307");  // full lower-casing
+  EXPECT_EQ(ClipTokenizer::clean("e\u0301"), "\u00e9");  // NFC
+  const std::vector<std::string> words = ClipTokenizer::split_words("don't stop!! 42x");
+  EXPECT_EQ(words, (std::vector<std::string>{"don", "'t", "stop", "!!", "4", "2", "x"}));
+}
+
+TEST(ClipTokenizer, MissingOrMalformedFilesNameTheFile) {
+  const testing_util::TempDir tmp;
+  const fs::path dir = tmp.path();
+  std::ofstream(dir / "vocab.json") << "{\"a\": 1";
+  try {
+    ClipTokenizer(dir / "vocab.json", kFixture / "merges.txt");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("vocab.json"), std::string::npos);
+  }
+  EXPECT_THROW(ClipTokenizer(kFixture / "vocab.json", dir / "none.txt"), InputError);
+}
+
+TEST(ClipModel, ImageEncoderMatchesPyTorchReference) {
+  const ClipModel& model = tiny_model();
+  for (const json& image : reference()["images"]) {
+    ClipPixels pixels;
+    pixels.size = model.image_size();
+    for (double v : image["pixels"]) pixels.values.push_back(float(v));
+    const Eigen::VectorXf e = model.encode_image(pixels);
+    EXPECT_LT(max_abs_difference(e, image["embedding"].get<std::vector<double>>()), 1e-4);
+  }
+}
+
+TEST(ClipModel, TextEncoderMatchesPyTorchReference) {
+  const ClipModel& model = tiny_model();
+  const ClipTokenizer tokenizer(kFixture / "vocab.json", kFixture / "merges.txt");
+  for (const json& text : reference()["texts"]) {
+    const std::vector<int32_t> ids = tokenizer.encode(text["text"].get<std::string>());
+    EXPECT_EQ(ids, text["ids"].get<std::vector<int32_t>>());
+    const Eigen::VectorXf e = model.encode_text(ids);
+    EXPECT_LT(max_abs_difference(e, text["embedding"].get<std::vector<double>>()), 1e-4)
+        << text["text"];
+  }
+}
+
+TEST(ClipModel, ReadsShapesFromTheTensors) {
+  const ClipModel& model = tiny_model();
+  EXPECT_EQ(model.image_size(), 32);
+  EXPECT_EQ(model.embedding_size(), 24);
+  EXPECT_EQ(model.context_length(), 77u);
+}
+
+TEST(ClipModel, MissingFilesGiveTheDownloadInstruction) {
+  const testing_util::TempDir tmp;
+  const fs::path dir = tmp.path();
+  try {
+    ClipFiles::in(dir);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("model.safetensors"), std::string::npos);
+    EXPECT_NE(what.find("openai/clip-vit-base-patch16"), std::string::npos);
+  }
+}
+
+TEST(Safetensors, RoundTripsAndRejectsTruncatedFiles) {
+  const testing_util::TempDir tmp;
+  const fs::path dir = tmp.path();
+  std::map<std::string, Tensor> tensors;
+  tensors["a"] = Tensor{{2, 3}, {1, 2, 3, 4, 5, 6}};
+  tensors["b.c"] = Tensor{{1}, {-0.5f}};
+  write_safetensors(dir / "t.safetensors", tensors);
+  const SafetensorsFile f(dir / "t.safetensors");
+  EXPECT_EQ(f.read("a").values, tensors["a"].values);
+  EXPECT_EQ(f.read("b.c", {1}).values[0], -0.5f);
+  EXPECT_THROW(f.read("b.c", {2}), InputError);
+  EXPECT_THROW(f.read("missing"), InputError);
+
+  const std::string bytes = read_text_file(dir / "t.safetensors");
+  std::ofstream(dir / "short.safetensors", std::ios::binary) << bytes.substr(0, bytes.size() - 8);
+  EXPECT_THROW(SafetensorsFile(dir / "short.safetensors"), InputError);
+  std::ofstream(dir / "junk.safetensors", std::ios::binary) << "not a tensor file";
+  EXPECT_THROW(SafetensorsFile(dir / "junk.safetensors"), InputError);
+}
+
+TEST(ClipPreprocess, NormalisesWithClipMeanAndStd) {
+  ImageRGB grey(40, 40);
+  std::fill(grey.data.begin(), grey.data.end(), 0.5f);
+  const ClipPixels p = clip_preprocess(grey, 32);
+  ASSERT_EQ(p.values.size(), 3u * 32 * 32);
+  EXPECT_NEAR(p.values[0], (0.5 - 0.48145466) / 0.26862954, 1e-5);
+  EXPECT_NEAR(p.values[2 * 32 * 32], (0.5 - 0.40821073) / 0.27577711, 1e-5);
+  const ClipPixels up = clip_preprocess(ImageRGB(8, 8), 32);  // enlarged: bicubic
+  EXPECT_NEAR(up.values[0], -0.48145466 / 0.26862954, 1e-5);
+}
+
+}  // namespace
+}  // namespace splat
