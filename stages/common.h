@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 #include <exception>
+#include <cstdlib>
 #include <functional>
 #include <optional>
 
@@ -42,6 +43,15 @@ inline splat::SplitRule parse_split(const std::string& name) {
   if (name == "every8") return splat::SplitRule::kEvery8;
   if (name == "all") return splat::SplitRule::kAll;
   throw std::invalid_argument("--split must be auto, lerf, every8 or all");
+}
+
+// Where op2gs-embed and op2gs-query look for the CLIP files when --clip is
+// not given: $OP2GS_CLIP_DIR, else ~/.cache/op2gs/clip-vit-base-patch16
+// (scripts/get_clip.sh downloads them there).
+inline std::string default_clip_dir() {
+  if (const char* dir = std::getenv("OP2GS_CLIP_DIR"); dir && *dir) return dir;
+  const char* home = std::getenv("HOME");
+  return std::string(home ? home : ".") + "/.cache/op2gs/clip-vit-base-patch16";
 }
 
 // Parses the command line and runs body; returns the process exit code:

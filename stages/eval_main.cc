@@ -1,5 +1,6 @@
-// op2gs-eval: score predicted object masks of a scene with the LERF-Mask
-// protocol (oracle mode), into metrics.json and a table on the terminal.
+// op2gs-eval: score predicted object masks of a scene (LERF-Mask protocol or
+// the 3DOVS metric; oracle mode, and query mode given op2gs-query's answers),
+// into metrics.json and a table on the terminal.
 
 #include <fmt/format.h>
 
@@ -23,6 +24,9 @@ int main(int argc, char** argv) {
   app.add_option("--truth-width", truth_width,
                  "LERF-Mask scoring: resize the ground truth to this width first (ObjectGS "
                  "scores 3DOVS at 1440)");
+  std::string queries;
+  app.add_option("--queries", queries,
+                 "query.json of op2gs-query: also score in query mode (objects chosen by text)");
   std::string renders, poses, true_poses;
   app.add_option("--renders", renders,
                  "rendered test views (<stem>.png): PSNR and SSIM against the scene's images/");
@@ -46,6 +50,7 @@ int main(int argc, char** argv) {
     o.protocol = protocols.at(protocol);
     o.truth_width = truth_width;
     o.renders = renders;
+    o.query_results = queries;
     o.poses = poses;
     o.true_poses = true_poses;
     if (poses.empty() != true_poses.empty())
@@ -53,13 +58,14 @@ int main(int argc, char** argv) {
     const eval::EvalRunResult r = eval::run_evaluation(scene, out, o);
     const bool lerf = r.protocol != eval::Protocol::kOvs;
     if (!r.names.empty())
-      fmt::print("{:<24} {:>8} {:>8}   ({}, oracle)\n", "predictions", "mIoU",
+      fmt::print("{:<24} {:<7} {:>8} {:>8}   ({})\n", "predictions", "mode", "mIoU",
                  lerf ? "mBIoU" : "acc",
                  r.protocol == eval::Protocol::kOvs           ? "3DOVS reference metric"
                  : r.protocol == eval::Protocol::kOvsLerfMask ? "LERF-Mask script on 3DOVS masks"
                                                               : "LERF-Mask protocol");
     for (size_t i = 0; i < r.names.size(); ++i)
-      fmt::print("{:<24} {:>8.1f} {:>8.1f}\n", r.names[i], 100 * r.miou[i], 100 * r.second[i]);
+      fmt::print("{:<24} {:<7} {:>8.1f} {:>8.1f}\n", r.names[i], r.modes[i], 100 * r.miou[i],
+                 100 * r.second[i]);
     if (r.psnr >= 0) fmt::print("test views: PSNR {:.2f} dB, SSIM {:.4f}\n", r.psnr, r.ssim);
     if (r.center_rmse >= 0)
       fmt::print("poses: camera-centre RMSE {:.5f}, rotation error {:.3f} deg\n", r.center_rmse,

@@ -61,8 +61,17 @@ ObjectMasks masks_from_label_map(const std::vector<int32_t>& labels, int width, 
   return masks;
 }
 
-SceneScore score_oracle(const LerfMaskGroundTruth& gt,
-                        const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width) {
+namespace {
+
+// Scores every query with the object choose() picks on the first view where
+// the query has ground truth.
+using ChooseObject =
+    std::function<int32_t(const std::string& query, const ObjectMasks& predicted,
+                          const std::function<Mask(int32_t id)>& mask_of, const Mask& truth)>;
+
+SceneScore score_queries(const LerfMaskGroundTruth& gt,
+                         const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width,
+                         const ChooseObject& choose) {
   std::map<size_t, ObjectMasks> predictions;  // loaded once per view
   auto predicted = [&](size_t k) -> const ObjectMasks& {
     auto it = predictions.find(k);
@@ -86,14 +95,10 @@ SceneScore score_oracle(const LerfMaskGroundTruth& gt,
         truth = resize_mask_nearest(
             truth, truth_width,
             std::max(1, int(std::lround(double(truth.height) * truth_width / truth.width))));
-      if (q.object < 0) {  // the oracle's choice, on the first view with ground truth
-        double best = -1;
-        for (const auto& [id, _] : predicted(k)) {
-          const double iou = mask_iou(truth, object_mask(k, id, truth.width, truth.height));
-          if (iou > best) best = iou, q.object = id;
-        }
-        if (q.object < 0) q.object = 0;  // nothing predicted at all
-      }
+      if (q.object < 0)
+        q.object = choose(
+            query, predicted(k),
+            [&](int32_t id) { return object_mask(k, id, truth.width, truth.height); }, truth);
       const Mask pred = object_mask(k, q.object, truth.width, truth.height);
       q.views.push_back(k);
       q.iou.push_back(mask_iou(truth, pred));
@@ -111,6 +116,35 @@ SceneScore score_oracle(const LerfMaskGroundTruth& gt,
   scene.miou = n ? scene.miou / n : std::numeric_limits<double>::quiet_NaN();
   scene.mbiou = n ? scene.mbiou / n : std::numeric_limits<double>::quiet_NaN();
   return scene;
+}
+
+}  // namespace
+
+SceneScore score_oracle(const LerfMaskGroundTruth& gt,
+                        const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width) {
+  return score_queries(gt, masks_of, truth_width,
+                       [](const std::string&, const ObjectMasks& predicted,
+                          const std::function<Mask(int32_t)>& mask_of, const Mask& truth) {
+                         int32_t object = 0;  // nothing predicted at all: no object
+                         double best = -1;
+                         for (const auto& [id, _] : predicted) {
+                           const double iou = mask_iou(truth, mask_of(id));
+                           if (iou > best) best = iou, object = id;
+                         }
+                         return object;
+                       });
+}
+
+SceneScore score_selected(const LerfMaskGroundTruth& gt, const QueryObjects& objects,
+                          const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width) {
+  return score_queries(gt, masks_of, truth_width,
+                       [&](const std::string& query, const ObjectMasks&,
+                           const std::function<Mask(int32_t)>&, const Mask&) {
+                         const auto it = objects.find(query);
+                         if (it == objects.end())
+                           throw std::invalid_argument("no object selected for query " + query);
+                         return it->second;
+                       });
 }
 
 LerfMaskGroundTruth lerf_mask_from_ovs(const OvsGroundTruth& ovs) {

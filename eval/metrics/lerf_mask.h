@@ -54,6 +54,14 @@ using ObjectMasks = std::map<int32_t, Mask>;
 SceneScore score_oracle(const LerfMaskGroundTruth& gt,
                         const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width = 0);
 
+// Query mode: each query's object is given (by text retrieval); its masks are
+// scored as in oracle mode. Throws std::invalid_argument for a query of the
+// ground truth that has no object.
+using QueryObjects = std::map<std::string, int32_t>;
+SceneScore score_selected(const LerfMaskGroundTruth& gt, const QueryObjects& objects,
+                          const std::function<ObjectMasks(size_t k)>& masks_of,
+                          int truth_width = 0);
+
 // The 3DOVS layout as LERF-Mask ground truth: the segmented views as test
 // views, the classes as queries, one binary mask per (view, class) where the
 // class is present (empty masks are left out: the script would score them NaN).

@@ -87,8 +87,16 @@ OvsViewScore score_ovs_view(const std::vector<Mask>& truth,
   return s;
 }
 
-OvsScore score_ovs_oracle(const OvsGroundTruth& gt,
-                          const std::function<ObjectMasks(size_t i)>& masks_of) {
+namespace {
+
+// Scores every class with the object choose(c, predicted, truth) picks on the
+// first view where the class has ground truth.
+using ChooseClassObject =
+    std::function<int32_t(size_t c, const ObjectMasks& predicted, const Mask& truth)>;
+
+OvsScore score_ovs_classes(const OvsGroundTruth& gt,
+                           const std::function<ObjectMasks(size_t i)>& masks_of,
+                           const ChooseClassObject& choose) {
   const size_t classes = gt.classes.size();
   OvsScore score;
   score.objects.assign(classes, -1);
@@ -102,13 +110,8 @@ OvsScore score_ovs_oracle(const OvsGroundTruth& gt,
     for (size_t c = 0; c < classes; ++c) truth.push_back(read_ovs_mask(gt.masks[i][c], W, H));
     std::vector<std::vector<float>> scores(classes, std::vector<float>(size_t(W) * H, 0.f));
     for (size_t c = 0; c < classes; ++c) {
-      if (score.objects[c] < 0 && truth[c].count() > 0) {  // the oracle's choice
-        double best = -1;
-        for (const auto& [id, mask] : predicted) {
-          const double iou = mask_iou(truth[c], mask);
-          if (iou > best) best = iou, score.objects[c] = id;
-        }
-      }
+      if (score.objects[c] < 0 && truth[c].count() > 0)
+        score.objects[c] = choose(c, predicted, truth[c]);
       const auto it = predicted.find(score.objects[c]);
       if (it == predicted.end()) continue;
       for (size_t p = 0; p < scores[c].size(); ++p) scores[c][p] = it->second.on[p];
@@ -120,6 +123,32 @@ OvsScore score_ovs_oracle(const OvsGroundTruth& gt,
   score.miou = pairs ? iou_sum / double(pairs) : 0;
   score.accuracy = score.views.empty() ? 0 : score.accuracy / double(score.views.size());
   return score;
+}
+
+}  // namespace
+
+OvsScore score_ovs_oracle(const OvsGroundTruth& gt,
+                          const std::function<ObjectMasks(size_t i)>& masks_of) {
+  return score_ovs_classes(gt, masks_of,
+                           [](size_t, const ObjectMasks& predicted, const Mask& truth) {
+                             int32_t object = -1;
+                             double best = -1;
+                             for (const auto& [id, mask] : predicted) {
+                               const double iou = mask_iou(truth, mask);
+                               if (iou > best) best = iou, object = id;
+                             }
+                             return object;
+                           });
+}
+
+OvsScore score_ovs_selected(const OvsGroundTruth& gt, const QueryObjects& objects,
+                            const std::function<ObjectMasks(size_t i)>& masks_of) {
+  return score_ovs_classes(gt, masks_of, [&](size_t c, const ObjectMasks&, const Mask&) {
+    const auto it = objects.find(gt.classes[c]);
+    if (it == objects.end())
+      throw std::invalid_argument("no object selected for class " + gt.classes[c]);
+    return it->second;
+  });
 }
 
 }  // namespace eval

@@ -60,4 +60,9 @@ struct OvsScore {
 OvsScore score_ovs_oracle(const OvsGroundTruth& gt,
                           const std::function<ObjectMasks(size_t i)>& masks_of);
 
+// Query mode: each class's object is given (by text retrieval). Throws
+// std::invalid_argument for a class without one.
+OvsScore score_ovs_selected(const OvsGroundTruth& gt, const QueryObjects& objects,
+                            const std::function<ObjectMasks(size_t i)>& masks_of);
+
 }  // namespace eval

@@ -12,6 +12,7 @@
 #include "splat/colmap_model.h"
 #include "splat/error.h"
 #include "splat/image.h"
+#include "splat/query/query_run.h"
 #include "splat/sfm/alignment.h"
 #include "splat/train/image_loss.h"
 
@@ -106,26 +107,48 @@ Protocol protocol_of(const fs::path& scene, Protocol p) {
 
 }  // namespace
 
+std::vector<std::string> benchmark_queries(const fs::path& scene) {
+  if (protocol_of(scene, Protocol::kAuto) == Protocol::kLerfMask)
+    return read_lerf_mask_ground_truth(scene).queries;
+  return read_ovs_ground_truth(scene).classes;
+}
+
 EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const EvalRunOptions& o) {
   o.Check();
   EvalRunResult r;
-  json results = json::object(), metrics = json::object();
+  json results = json::object(), query_results = json::object(), metrics = json::object();
+  std::vector<std::pair<std::string, const QueryObjects*>> modes;
+  QueryObjects selected;
+  modes.push_back({"oracle", nullptr});
+  if (!o.query_results.empty()) {
+    for (const splat::QueryAnswer& a : splat::read_query_results(o.query_results).answers)
+      selected[a.query] = a.object;
+    modes.push_back({"query", &selected});
+  }
+  const auto add_row = [&](const NamedPredictions& p, const std::string& mode, double miou,
+                           double second, json scores) {
+    r.names.push_back(p.name);
+    r.modes.push_back(mode);
+    r.miou.push_back(miou);
+    r.second.push_back(second);
+    scores["folder"] = p.folder.string();
+    (mode == "oracle" ? results : query_results)[p.name] = scores;
+  };
   if (o.predictions.empty()) {
     // Only image quality or poses.
   } else if ((r.protocol = protocol_of(scene, o.protocol)) != Protocol::kOvs) {
     const bool on_ovs = r.protocol == Protocol::kOvsLerfMask;
     const LerfMaskGroundTruth gt = on_ovs ? lerf_mask_from_ovs(read_ovs_ground_truth(scene))
                                           : read_lerf_mask_ground_truth(scene);
-    for (const NamedPredictions& p : o.predictions) {
-      const SceneScore s = score_oracle(
-          gt, [&](size_t k) { return read_view_predictions(p.folder, gt.test_views[k]); },
-          o.truth_width);
-      r.names.push_back(p.name);
-      r.miou.push_back(s.miou);
-      r.second.push_back(s.mbiou);
-      results[p.name] = score_json(gt, s);
-      results[p.name]["folder"] = p.folder.string();
-    }
+    for (const NamedPredictions& p : o.predictions)
+      for (const auto& [mode, objects] : modes) {
+        const auto masks_of = [&](size_t k) {
+          return read_view_predictions(p.folder, gt.test_views[k]);
+        };
+        const SceneScore s = objects ? score_selected(gt, *objects, masks_of, o.truth_width)
+                                     : score_oracle(gt, masks_of, o.truth_width);
+        add_row(p, mode, s.miou, s.mbiou, score_json(gt, s));
+      }
     metrics = {{"protocol", on_ovs ? "lerf-mask script on 3dovs masks (IoU and boundary IoU)"
                                    : "lerf-mask (IoU and boundary IoU, dilation ratio 0.02)"},
                {"truth_width", o.truth_width},
@@ -134,15 +157,13 @@ EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const E
     const OvsGroundTruth gt = read_ovs_ground_truth(scene);
     std::vector<std::string> views;
     for (size_t v : gt.views) views.push_back(gt.images[v]);
-    for (const NamedPredictions& p : o.predictions) {
-      const OvsScore s =
-          score_ovs_oracle(gt, [&](size_t i) { return read_view_predictions(p.folder, views[i]); });
-      r.names.push_back(p.name);
-      r.miou.push_back(s.miou);
-      r.second.push_back(s.accuracy);
-      results[p.name] = ovs_json(gt, s);
-      results[p.name]["folder"] = p.folder.string();
-    }
+    for (const NamedPredictions& p : o.predictions)
+      for (const auto& [mode, objects] : modes) {
+        const auto masks_of = [&](size_t i) { return read_view_predictions(p.folder, views[i]); };
+        const OvsScore s = objects ? score_ovs_selected(gt, *objects, masks_of)
+                                   : score_ovs_oracle(gt, masks_of);
+        add_row(p, mode, s.miou, s.accuracy, ovs_json(gt, s));
+      }
     metrics = {{"protocol", "3dovs reference (one-hot argmax, per-class IoU, pixel accuracy)"},
                {"test_views", views},
                {"classes", gt.classes}};
@@ -158,8 +179,12 @@ EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const E
                                 {"rotation_error_deg", acc.rotation_error_deg}};
   }
   metrics["scene"] = scene.string();
-  metrics["mode"] = "oracle";
+  metrics["modes"] = o.query_results.empty() ? json{"oracle"} : json{"oracle", "query"};
   if (!o.predictions.empty()) metrics["results"] = results;
+  if (!o.query_results.empty()) {
+    metrics["query_results"] = query_results;
+    metrics["queries_from"] = o.query_results.string();
+  }
   splat::write_text_atomically(out, metrics.dump(2) + "\n");
   return r;
 }

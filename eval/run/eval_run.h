@@ -1,7 +1,8 @@
 #pragma once
-// op2gs-eval's run: scores prediction folders of a scene in oracle mode with
-// the LERF-Mask protocol (test_mask/) or the 3DOVS reference metric
-// (segmentations/), and writes every per-view figure to metrics.json.
+// op2gs-eval's run: scores prediction folders of a scene with the LERF-Mask
+// protocol (test_mask/) or the 3DOVS reference metric (segmentations/), in
+// oracle mode and, given op2gs-query's answers, in query mode, and writes
+// every per-view figure to metrics.json.
 
 #include <filesystem>
 #include <string>
@@ -30,12 +31,17 @@ struct EvalRunOptions {
   // Pose accuracy: a reconstruction against the true cameras (COLMAP models),
   // after a similarity alignment.
   std::filesystem::path poses, true_poses;
+  // Query mode as well: query.json of op2gs-query, whose answers name the
+  // object of each query (class).
+  std::filesystem::path query_results;
   void Check() const;  // throws std::invalid_argument
 };
 
 struct EvalRunResult {
   Protocol protocol = Protocol::kLerfMask;
+  // One row per (prediction folder, mode), in the order scored.
   std::vector<std::string> names;
+  std::vector<std::string> modes;  // "oracle" or "query"
   // Per prediction folder, in [0, 1]: mIoU, and mBIoU (LERF-Mask scoring) or
   // pixel accuracy (the 3DOVS reference metric).
   std::vector<double> miou, second;
@@ -43,6 +49,10 @@ struct EvalRunResult {
   double center_rmse = -1;      // -1 without poses
   double rotation_error_deg = -1;
 };
+
+// The queries of a benchmark scene: the LERF-Mask query names (test_mask/),
+// or the 3DOVS classes (segmentations/classes.txt).
+std::vector<std::string> benchmark_queries(const std::filesystem::path& scene);
 
 // Scores every prediction folder; writes metrics.json (atomically) to `out`.
 EvalRunResult run_evaluation(const std::filesystem::path& scene, const std::filesystem::path& out,

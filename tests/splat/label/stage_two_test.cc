@@ -14,6 +14,8 @@
 #include "splat/label/render_run.h"
 #include "splat/label/vote_run.h"
 #include "splat/ply.h"
+#include "splat/query/embed_run.h"
+#include "splat/query/query_run.h"
 #include "splat/train/train_run.h"
 #include "tests/test_util.h"
 #include "tests/tiny_scene.h"
@@ -134,6 +136,73 @@ TEST(StageTwo, RendersMasksLabelMapsAndObjectModels) {
   EXPECT_GT(object.size(), 0u);
   EXPECT_EQ(object.size() + rest.size(), m.size());
   for (int32_t l : object.labels) EXPECT_EQ(l, 1);
+}
+
+// op2gs-embed, op2gs-query and the evaluation's query mode with the tiny CLIP
+// of tests/fixtures (random weights: the plumbing is tested, not retrieval).
+TEST(StageTwo, EmbedsObjectsAnswersQueriesAndScoresQueryMode) {
+  TempDir a;
+  run_training(scene(), a / "learn", learn_options(320));
+  const fs::path clip = fs::path(OP2GS_SOURCE_DIR) / "tests/fixtures/tiny_clip";
+  EmbedRunOptions e;
+  e.model = a / "learn/checkpoints/latest.ckpt";
+  e.clip_dir = clip;
+  e.views_per_object = 3;
+  e.min_mask_pixels = 16;
+  const ObjectEmbeddings embeddings = run_embed(scene(), a / "embed", e);
+  ASSERT_GE(embeddings.objects.size(), 6u);
+  for (const ObjectEmbedding& obj : embeddings.objects) {
+    EXPECT_NEAR(obj.embedding.norm(), 1.0f, 1e-5f);
+    ASSERT_FALSE(obj.views.empty());
+    EXPECT_LE(obj.views.size(), 3u);
+    for (size_t k = 0; k + 1 < obj.views.size(); ++k)
+      EXPECT_GE(obj.views[k].area, obj.views[k + 1].area);  // the largest masks
+    for (const ObjectView& v : obj.views) EXPECT_TRUE(fs::exists(a / "embed" / v.crop)) << v.crop;
+  }
+  const ObjectEmbeddings back = read_object_embeddings(a / "embed/embeddings.json");
+  ASSERT_EQ(back.objects.size(), embeddings.objects.size());
+  EXPECT_TRUE(back.objects[0].embedding.isApprox(embeddings.objects[0].embedding, 1e-6f));
+
+  QueryRunOptions q;
+  q.embeddings = a / "embed/embeddings.json";
+  q.clip_dir = clip;
+  q.queries = eval::benchmark_queries(scene());
+  ASSERT_FALSE(q.queries.empty());
+  const QueryResults answers = run_query(a / "query", q);
+  ASSERT_EQ(answers.answers.size(), q.queries.size());
+  for (const QueryAnswer& ans : answers.answers) {
+    EXPECT_EQ(ans.similarities.size(), embeddings.objects.size());
+    EXPECT_FLOAT_EQ(ans.similarity,
+                    *std::max_element(ans.similarities.begin(), ans.similarities.end()));
+  }
+  EXPECT_TRUE(fs::exists(a / "query/similarity.csv"));
+
+  RenderRunOptions r;
+  r.model = e.model;
+  run_render(scene(), a / "render", r);
+  eval::EvalRunOptions ev;
+  ev.predictions = {{"dual", a / "render/masks"}};
+  ev.query_results = a / "query/query.json";
+  const eval::EvalRunResult scores = eval::run_evaluation(scene(), a / "metrics.json", ev);
+  ASSERT_EQ(scores.modes, (std::vector<std::string>{"oracle", "query"}));
+  EXPECT_LE(scores.miou[1], scores.miou[0] + 1e-12);  // the oracle is an upper bound
+  const auto metrics = nlohmann::json::parse(testing_util::read_file(a / "metrics.json"));
+  EXPECT_EQ(metrics["query_results"]["dual"]["queries"].size(),
+            metrics["results"]["dual"]["queries"].size());
+  for (const auto& row : metrics["query_results"]["dual"]["queries"])
+    EXPECT_EQ(row["object"].get<int32_t>(), answers.object_for(row["query"]));
+
+  // Query mode with the oracle's own choices reproduces the oracle's score.
+  nlohmann::json oracle_answers = {{"objects", answers.objects}, {"queries", nlohmann::json::array()}};
+  for (const auto& row : metrics["results"]["dual"]["queries"])
+    oracle_answers["queries"].push_back({{"query", row["query"]},
+                                         {"object", row["object"]},
+                                         {"similarity", 1.0},
+                                         {"similarities", nlohmann::json::array()}});
+  testing_util::write_file(a / "oracle_query.json", oracle_answers.dump());
+  ev.query_results = a / "oracle_query.json";
+  const eval::EvalRunResult same = eval::run_evaluation(scene(), a / "metrics2.json", ev);
+  EXPECT_DOUBLE_EQ(same.miou[1], same.miou[0]);
 }
 
 }  // namespace
