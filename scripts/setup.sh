@@ -3,19 +3,23 @@
 # Idempotent and non-interactive: safe to run again; only missing packages are
 # installed and the build is incremental.
 #
-# Usage: scripts/setup.sh [--no-build] [--portable] [--build-dir DIR]
+# Usage: scripts/setup.sh [--no-build] [--portable] [--build-dir DIR] [--tests]
+#   --tests  also installs what only the tests need (headless Chromium, which
+#            renders the HTML report in a test)
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build_dir="$root/build"
 do_build=1
+with_tests=0
 portable=OFF
 while [ $# -gt 0 ]; do
   case "$1" in
     --no-build) do_build=0 ;;
     --portable) portable=ON ;;
     --build-dir) build_dir="$2"; shift ;;
-    -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
+    --tests) with_tests=1 ;;
+    -h|--help) sed -n '2,9p' "$0"; exit 0 ;;
     *) echo "setup.sh: unknown option '$1'" >&2; exit 2 ;;
   esac
   shift
@@ -27,6 +31,8 @@ packages=(
   libceres-dev libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev
   libcli11-dev libfmt-dev libspdlog-dev libnanoflann-dev libsqlite3-dev libicu-dev colmap clang-format
 )
+
+if [ "$with_tests" -eq 1 ]; then packages+=(chromium); fi
 
 missing=()
 for p in "${packages[@]}"; do

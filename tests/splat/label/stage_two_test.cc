@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "eval/report/report.h"
 #include "eval/run/eval_run.h"
 #include "eval/synthetic/generator.h"
 #include "splat/error.h"
@@ -203,6 +204,38 @@ TEST(StageTwo, EmbedsObjectsAnswersQueriesAndScoresQueryMode) {
   ev.query_results = a / "oracle_query.json";
   const eval::EvalRunResult same = eval::run_evaluation(scene(), a / "metrics2.json", ev);
   EXPECT_DOUBLE_EQ(same.miou[1], same.miou[0]);
+
+  // The report of this scene: oracle and query rows side by side, figures,
+  // and a page that headless Chromium renders (not blank).
+  fs::create_directories(a / "work/eval");
+  fs::copy_file(a / "metrics.json", a / "work/eval/metrics.json");
+  eval::ReportOptions report;
+  report.scenes = {{"tiny", scene(), a / "work/eval/metrics.json", a / "render",
+                    {a / "learn/training_curve.png"}, a / "query/query.json"}};
+  const eval::ReportFiles files = eval::write_report(a / "report", report);
+  const std::string md = testing_util::read_file(files.markdown);
+  EXPECT_NE(md.find("dual (oracle) mIoU"), std::string::npos) << md;
+  EXPECT_NE(md.find("dual (query) mIoU"), std::string::npos);
+  const std::string html = testing_util::read_file(files.html);
+  EXPECT_NE(html.find("data:image/jpeg;base64,"), std::string::npos);
+  EXPECT_NE(html.find("instance label map"), std::string::npos);
+  const fs::path shot = a / "screenshot.png";
+  const std::string chromium = fs::exists("/usr/bin/chromium") ? "/usr/bin/chromium" : "chromium";
+  const int rc = std::system(("timeout 120 " + chromium +
+                              " --headless --no-sandbox --disable-gpu --hide-scrollbars "
+                              "--window-size=1200,1600 --screenshot=" + shot.string() +
+                              " file://" + files.html.string() + " >/dev/null 2>&1")
+                                 .c_str());
+  ASSERT_EQ(rc, 0) << "headless Chromium failed; install it with scripts/setup.sh --tests";
+  const ImageRGB page = read_image_rgb(shot);
+  size_t dark = 0, colored = 0;
+  for (size_t p = 0; p < size_t(page.width) * page.height; ++p) {
+    const float* c = &page.data[3 * p];
+    dark += c[0] + c[1] + c[2] < 1.5f;
+    colored += std::max({c[0], c[1], c[2]}) - std::min({c[0], c[1], c[2]}) > 0.2f;
+  }
+  EXPECT_GT(dark, size_t(page.width) * page.height / 100);     // text, tables, photos
+  EXPECT_GT(colored, size_t(page.width) * page.height / 1000);  // the embedded figures
 }
 
 }  // namespace

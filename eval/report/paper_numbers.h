@@ -1,0 +1,36 @@
+#pragma once
+// The OP2GS paper's published figures (../shared/paper/op2gs.tex), for the
+// reports to put beside ours. In percent.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace eval {
+
+enum class Dataset { kOther, kLerfMask, kOvs };
+
+// "lerf-mask" / "3dovs" / anything else.
+Dataset dataset_named(const std::string& name);
+std::string dataset_title(Dataset d);
+// A dataset whose scenes are all named as one of the paper's datasets.
+Dataset dataset_of_scenes(const std::vector<std::string>& scene_names);
+
+struct PaperSceneFigure {
+  double miou = 0;
+  std::optional<double> mbiou;  // the 3DOVS tables give mIoU only
+};
+
+// The paper's per-scene result (table "LERF-Mask" with SAM2 pseudo-labels, or
+// the 3DOVS tables of the main text and the appendix), if it has one.
+std::optional<PaperSceneFigure> paper_scene_figure(Dataset d, const std::string& scene);
+
+// The paper's ablation table ("dual-opacity in two stages"): mIoU and mBIoU
+// of the baseline and of dual opacity, in oracle and query mode.
+struct PaperAblationRow {
+  std::string mode;  // "oracle" or "query"
+  double baseline_miou, baseline_mbiou, dual_miou, dual_mbiou;
+};
+std::vector<PaperAblationRow> paper_ablation(Dataset d);
+
+}  // namespace eval

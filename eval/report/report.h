@@ -1,0 +1,48 @@
+#pragma once
+// op2gs-report: one self-contained HTML file (images embedded) and a Markdown
+// summary, for one scene or a whole dataset run, from op2gs-eval's
+// metrics.json files:
+//   - the dataset table in the layout of the paper's tables (per scene mIoU /
+//     mBIoU, mean), with the paper's published figures beside ours when the
+//     dataset is one of the paper's, and the paper's ablation layout
+//     (baseline / dual opacity, oracle / query);
+//   - per scene: the per-query rows (object chosen, mIoU, mBIoU, per view);
+//   - figures: per test view and query, the photo, the ground truth, and each
+//     prediction's mask coloured by error (green: right, red: predicted but
+//     not true, blue: true but missed); the instance label map; the training
+//     curves.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace eval {
+
+struct SceneReportInput {
+  std::string name;
+  std::filesystem::path scene;    // the scene folder (photos and ground truth)
+  std::filesystem::path metrics;  // metrics.json of op2gs-eval
+  // Optional: op2gs-render's folder (instance_labels_color/), training curve
+  // PNGs, op2gs-query's query.json (the similarity table).
+  std::filesystem::path render;
+  std::vector<std::filesystem::path> curves;
+  std::filesystem::path queries;
+};
+
+struct ReportOptions {
+  std::string title = "op2gs report";
+  std::string dataset;  // "lerf-mask", "3dovs", other; empty: from the scene names
+  std::vector<SceneReportInput> scenes;
+  int thumbnail_width = 320;  // figure panels, pixels
+  bool figures = true;
+  void Check() const;  // throws std::invalid_argument
+};
+
+struct ReportFiles {
+  std::filesystem::path html, markdown;
+};
+
+// Writes report.html and report.md into out (atomically).
+ReportFiles write_report(const std::filesystem::path& out, const ReportOptions& options);
+
+}  // namespace eval

@@ -1,0 +1,44 @@
+// op2gs-report: an HTML report (self-contained) and a Markdown summary of one
+// scene or a dataset run, from the scenes' op2gs-eval metrics.
+
+#include "eval/report/report.h"
+#include "stages/common.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"Write the HTML and Markdown report of evaluated scenes."};
+  eval::ReportOptions o;
+  std::vector<std::string> scenes;
+  std::string out, metrics = "eval/metrics.json";
+  bool no_figures = false;
+  app.add_option("--scene", scenes,
+                 "NAME SCENE_DIR WORK_DIR (repeatable): reads WORK_DIR/eval/metrics.json, "
+                 "render/, query/query.json, the training curves")
+      ->expected(3)
+      ->required();
+  app.add_option("--out", out, "output folder (report.html, report.md)")->required();
+  app.add_option("--title", o.title, "report title")->capture_default_str();
+  app.add_option("--dataset", o.dataset,
+                 "lerf-mask or 3dovs: the paper's figures beside ours (default: from the scene "
+                 "names)");
+  app.add_option("--metrics", metrics, "metrics file inside each work folder")
+      ->capture_default_str();
+  app.add_option("--thumbnail-width", o.thumbnail_width, "figure width in pixels")
+      ->capture_default_str();
+  app.add_flag("--no-figures", no_figures, "tables only");
+  return stages::run_stage(app, argc, argv, [&] {
+    o.figures = !no_figures;
+    for (size_t i = 0; i + 2 < scenes.size(); i += 3) {
+      const std::filesystem::path work = scenes[i + 2];
+      eval::SceneReportInput s;
+      s.name = scenes[i];
+      s.scene = scenes[i + 1];
+      s.metrics = work / metrics;
+      s.render = work / "render";
+      s.curves = {work / "training_curve.png", work / "learn" / "training_curve.png"};
+      s.queries = work / "query" / "query.json";
+      o.scenes.push_back(s);
+    }
+    const eval::ReportFiles f = eval::write_report(out, o);
+    spdlog::info("report: {} and {}", f.html.string(), f.markdown.string());
+  });
+}
