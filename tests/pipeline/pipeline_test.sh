@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# pipeline/Makefile end to end: a tiny synthetic scene through every stage
+# (SfM included), artifacts and metrics checked; a second make does nothing;
+# a changed stage option reruns that stage and those after it only; the
+# dataset definitions against folders that mimic LERF-Mask and 3DOVS; a scene
+# that lacks its ID maps fails its stage while the other scene of a -k run
+# goes on.
+# Usage: pipeline_test.sh BIN_DIR
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+bin="$1"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+mk() { make --no-print-directory -f "$root/pipeline/Makefile" BIN="$bin" "$@"; }
+
+tiny=(DATASET=synthetic WORK_ROOT="$tmp/run" SYNTH_OPTS="--supersample 1 --points 1500"
+      ITERATIONS=300 STAGE_ONE=200 TRAIN_OPTS="--densify-from 50 --densify-until 150 --densify-every 50")
+
+echo "-- every stage of a tiny synthetic scene"
+mk "${tiny[@]}" > "$tmp/first.log" 2>&1 || { tail -40 "$tmp/first.log"; fail "the tiny run failed"; }
+w="$tmp/run/demo"
+for f in sfm/scene/sparse/0/images.bin checkpoints/latest.ckpt vote/point_cloud.ply \
+         learn/checkpoints/latest.ckpt render/masks render/rgb render/instance_labels \
+         embed/embeddings.json query/query.json eval/metrics.json report/report.html \
+         report/report.md logs/train.log logs/learn.log; do
+  [ -e "$w/$f" ] || fail "missing artifact $w/$f"
+done
+[ -s "$tmp/run/report/report.html" ] || fail "no dataset report"
+grep -q "report: $tmp/run/report/report.html" "$tmp/first.log" || fail "the run did not say where the report is"
+grep -q '"query_results"' "$w/eval/metrics.json" || fail "metrics.json has no query-mode scores"
+# The metrics file parses: op2gs-report reads every figure of it.
+"$bin/op2gs-report" --scene demo "$w/sfm/scene" "$w" --out "$tmp/check" --no-figures >/dev/null 2>&1 ||
+  fail "metrics.json does not parse"
+grep -q "dual-opacity (query) mIoU" "$tmp/check/report.md" || fail "no query-mode row in the report"
+
+echo "-- a second make does nothing"
+mk "${tiny[@]}" -q || fail "make -q says something is stale"
+mk "${tiny[@]}" | grep -q "Nothing to be done" || fail "a second make did work"
+
+echo "-- a changed stage-two option reruns stage two and what follows, only"
+stamps() { for s in generate sfm train vote learn render embed eval report; do
+  echo "$s $(stat -c %Y.%y "$w/stamps/$s.done")"; done; }
+before=$(stamps)
+sleep 1.1
+mk "${tiny[@]}" LEARN_OPTS="--lambda-o 0.2" > "$tmp/second.log" 2>&1 || { tail -40 "$tmp/second.log"; fail "rerun failed"; }
+after=$(stamps)
+for s in generate sfm train vote; do
+  [ "$(grep "^$s " <<<"$before")" = "$(grep "^$s " <<<"$after")" ] || fail "stage $s reran"
+done
+for s in learn render embed eval report; do
+  [ "$(grep "^$s " <<<"$before")" != "$(grep "^$s " <<<"$after")" ] || fail "stage $s did not rerun"
+done
+
+echo "-- the dataset definitions against LERF-Mask and 3DOVS layouts"
+png=$(find "$tmp/run/data/demo/sam2" -name '*.png' | head -1)
+"$root/tests/pipeline/make_fixtures.sh" "$png" "$tmp/fx"
+mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" check > "$tmp/check.log" 2>&1 ||
+  { cat "$tmp/check.log"; fail "LERF-Mask fixture does not check"; }
+grep -q "figurines: 3 test views, 7 queries" "$tmp/check.log" || fail "figurines not checked"
+mk DATASET=3dovs DATA_ROOT="$tmp/fx/3dovs" WORK_ROOT="$tmp/ovs" check > "$tmp/check.log" 2>&1 ||
+  { cat "$tmp/check.log"; fail "3DOVS fixture does not check"; }
+grep -q "covered_desk: 5 segmented views, 6 classes" "$tmp/check.log" || fail "3DOVS scenes not checked"
+# The commands the definitions give.
+mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" -n figurines.embed |
+  grep -q -- "--queries $tmp/lerf/figurines/options/queries.txt" || fail "LERF-Mask queries not used"
+[ "$(wc -l < "$tmp/lerf/figurines/options/queries.txt")" -eq 7 ] || fail "figurines query list"
+grep -qx "rubber duck with red hat" "$tmp/lerf/figurines/options/queries.txt" || fail "query text"
+mk DATASET=3dovs DATA_ROOT="$tmp/fx/3dovs" WORK_ROOT="$tmp/ovs" -n bed.sfm | grep -q -- "--llff" ||
+  fail "3DOVS SfM does not keep the LLFF cameras"
+mk DATASET=3dovs DATA_ROOT="$tmp/fx/3dovs" WORK_ROOT="$tmp/ovs" -n bed.eval |
+  grep -q -- "--protocol 3dovs-lerf" || fail "3DOVS protocol"
+# A scene whose ground truth lost a query fails the check, naming it.
+rm "$tmp"/fx/lerf_mask/ramen/test_mask/*/egg.png
+if mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" check > "$tmp/check.log" 2>&1; then
+  fail "a missing query passed the check"
+fi
+grep -q "ramen/test_mask: queries differ from the dataset's list: missing: egg" "$tmp/check.log" ||
+  { cat "$tmp/check.log"; fail "the check did not name the missing query"; }
+
+echo "-- a scene without ID maps fails its stage; the other scene goes on (-k)"
+for s in a b; do
+  "$bin/op2gs-synth" "$tmp/photos/$s" --views 8 --width 96 --height 72 --supersample 1 \
+    --points 500 >/dev/null 2>&1
+done
+rm -rf "$tmp/photos/b/sam2"
+photos=(DATASET=photos DATA_ROOT="$tmp/photos" WORK_ROOT="$tmp/prun" ITERATIONS=100 STAGE_ONE=100)
+if mk "${photos[@]}" -k vote > "$tmp/k.log" 2>&1; then fail "a scene without sam2/ passed"; fi
+[ -e "$tmp/prun/a/stamps/vote.done" ] || { tail -30 "$tmp/k.log"; fail "scene a did not finish"; }
+[ ! -e "$tmp/prun/b/stamps/vote.done" ] || fail "scene b's vote passed"
+grep -q "op2gs: b: stage vote failed (exit 1): .*/b/sam2: no ID map folder" "$tmp/k.log" ||
+  { tail -30 "$tmp/k.log"; fail "no clear failure line"; }
+grep "op2gs: b: stage vote failed" "$tmp/k.log"
+echo "PASS"
