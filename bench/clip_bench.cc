@@ -110,8 +110,8 @@ void BM_ImageEncoder50Crops(benchmark::State& state) {
   for (auto _ : state)
     tbb::parallel_for(size_t(0), crops.size(),
                       [&](size_t i) { out[i] = m.encode_image(crops[i]).normalized(); });
-  state.counters["crops/s"] = benchmark::Counter(double(state.iterations()) * 50,
-                                                 benchmark::Counter::kIsRate);
+  state.counters["crops/s"] =
+      benchmark::Counter(double(state.iterations()) * 50, benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_ImageEncoder50Crops)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 

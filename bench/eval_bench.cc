@@ -52,8 +52,9 @@ void write_predictions(const fs::path& folder, const std::string& stem, int w, i
 void write_query_answers(const fs::path& file, const std::vector<std::string>& queries) {
   std::string j = "{\"objects\": [1,2,3,4,5,6,7,8,9,10], \"queries\": [";
   for (size_t i = 0; i < queries.size(); ++i)
-    j += (i ? "," : "") + std::string("{\"query\": \"") + queries[i] + "\", \"object\": " +
-         std::to_string(1 + i % 10) + ", \"similarity\": 0.3, \"similarities\": []}";
+    j += (i ? "," : "") + std::string("{\"query\": \"") + queries[i] +
+         "\", \"object\": " + std::to_string(1 + i % 10) +
+         ", \"similarity\": 0.3, \"similarities\": []}";
   std::ofstream(file) << j << "]}";
 }
 

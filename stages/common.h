@@ -7,8 +7,8 @@
 #include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
-#include <exception>
 #include <cstdlib>
+#include <exception>
 #include <functional>
 #include <optional>
 
@@ -43,6 +43,19 @@ inline splat::SplitRule parse_split(const std::string& name) {
   if (name == "every8") return splat::SplitRule::kEvery8;
   if (name == "all") return splat::SplitRule::kAll;
   throw std::invalid_argument("--split must be auto, lerf, every8 or all");
+}
+
+// The options of every stage that reads a scene's views: --resolution,
+// --images, --split and --threads.
+inline void add_scene_options(
+    CLI::App& app, splat::SceneOptions& scene, std::string& split, int& threads,
+    const std::string& resolution_help = "downscale factor 1, 2, 4 or 8") {
+  app.add_option("--resolution", scene.downscale, resolution_help)->capture_default_str();
+  app.add_option("--images", scene.images_dir, "image folder inside the scene")
+      ->capture_default_str();
+  app.add_option("--split", split, "train/test split: auto, lerf (images_train/), every8, all")
+      ->capture_default_str();
+  app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
 }
 
 // Where op2gs-embed and op2gs-query look for the CLIP files when --clip is

@@ -1,18 +1,18 @@
 // op2gs-embed: one CLIP image embedding per object of a stage-two model, from
 // masked crops of the training views where the object is largest.
 
-#include "splat/query/embed_run.h"
-#include "splat/label/vote_run.h"
-#include "stages/common.h"
-
 #include <chrono>
+
+#include "splat/label/vote_run.h"
+#include "splat/query/embed_run.h"
+#include "stages/common.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Embed every object of an OP2GS model with CLIP (masked crops, N views)."};
   splat::EmbedRunOptions o;
   std::string scene, work, model, out, split = "auto", clip = stages::default_clip_dir();
   std::vector<float> background;
-  int resolution = 1, threads = 0;
+  int threads = 0;
   app.add_option("scene", scene, "scene folder")->required();
   app.add_option("work", work, "work folder; reads <work>/learn/, writes <work>/embed/")
       ->required();
@@ -35,20 +35,13 @@ int main(int argc, char** argv) {
   app.add_option("--crop-background", background, "colour r g b in [0, 1] outside the mask")
       ->expected(3);
   app.add_option("--object", o.objects, "only these object IDs (default: all)");
-  app.add_option("--resolution", resolution, "downscale factor 1, 2, 4 or 8")
-      ->capture_default_str();
-  app.add_option("--images", o.scene.images_dir, "image folder inside the scene")
-      ->capture_default_str();
-  app.add_option("--split", split, "train/test split: auto, lerf, every8, all")
-      ->capture_default_str();
-  app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
+  stages::add_scene_options(app, o.scene, split, threads);
   return stages::run_stage(app, argc, argv, [&] {
     const stages::ThreadLimit limit(threads);
     const std::filesystem::path w = work;
     o.model =
         model.empty() ? w / "learn" / "checkpoints" / "latest.ckpt" : std::filesystem::path(model);
     o.clip_dir = clip;
-    o.scene.downscale = resolution;
     o.split = stages::parse_split(split);
     if (!background.empty()) std::copy_n(background.begin(), 3, o.crop_background.begin());
     const std::filesystem::path dir = out.empty() ? w / "embed" : std::filesystem::path(out);

@@ -47,8 +47,8 @@ int main(int argc, char** argv) {
     if (!scene.empty())
       for (const std::string& q : eval::benchmark_queries(scene)) o.queries.push_back(q);
     if (!templates.empty()) o.templates = templates;
-    o.embeddings = embeddings.empty() ? w / "embed" / "embeddings.json"
-                                      : std::filesystem::path(embeddings);
+    o.embeddings =
+        embeddings.empty() ? w / "embed" / "embeddings.json" : std::filesystem::path(embeddings);
     o.clip_dir = clip;
     const std::filesystem::path dir = out.empty() ? w / "query" : std::filesystem::path(out);
     const splat::QueryResults r = splat::run_query(dir, o);

@@ -12,7 +12,7 @@ int main(int argc, char** argv) {
   std::string scene, work, out, model, views = "test", split = "auto", camera_path;
   std::vector<std::string> view_names;
   std::vector<float> background;
-  int resolution = 1, threads = 0;
+  int threads = 0;
   int32_t ply_object = 0, ply_without = 0;
   std::string ply_out;
   float min_sigma = 0.1f;
@@ -30,12 +30,6 @@ int main(int argc, char** argv) {
   app.add_option("--tau", o.tau, "mask threshold on the occupancy S_j")->capture_default_str();
   app.add_flag("--occupancy", o.occupancy, "also write the occupancy maps as grey images");
   app.add_flag("--object-images", o.object_images, "also write each object's masked image");
-  app.add_option("--resolution", resolution, "downscale factor 1, 2, 4 or 8")
-      ->capture_default_str();
-  app.add_option("--images", o.scene.images_dir, "image folder inside the scene")
-      ->capture_default_str();
-  app.add_option("--split", split, "train/test split: auto, lerf, every8, all")
-      ->capture_default_str();
   app.add_option("--background", background, "background colour r g b in [0, 1]")->expected(3);
   app.add_option("--ply-object", ply_object, "write a PLY of this object only (to --ply-out)");
   app.add_option("--ply-without", ply_without, "write a PLY of the scene without this object");
@@ -43,7 +37,7 @@ int main(int argc, char** argv) {
   app.add_option("--min-instance-opacity", min_sigma,
                  "an object's Gaussians have its label and sigma* at least this")
       ->capture_default_str();
-  app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
+  stages::add_scene_options(app, o.scene, split, threads);
   return stages::run_stage(app, argc, argv, [&] {
     const stages::ThreadLimit limit(threads);
     const std::filesystem::path w = work;
@@ -59,7 +53,6 @@ int main(int argc, char** argv) {
       spdlog::info("{} of {} Gaussians written to {}", part.size(), m.size(), ply_out);
       return;
     }
-    o.scene.downscale = resolution;
     o.split = stages::parse_split(split);
     o.view_names = view_names;
     o.camera_path = camera_path;

@@ -8,7 +8,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Give every Gaussian an object label by majority vote of precomputed ID maps."};
   splat::VoteRunOptions o;
   std::string scene, work, split = "auto", visibility = "depth", model;
-  int resolution = 1, threads = 0;
+  int threads = 0;
   app.add_option("scene", scene, "scene folder (images/, sparse/0/, sam2/)")->required();
   app.add_option("work", work, "work folder of stage one; writes <work>/vote/")->required();
   app.add_option("--model", model,
@@ -27,17 +27,10 @@ int main(int argc, char** argv) {
                "skip training views without an ID map (with a warning)");
   app.add_option("--previews", o.preview_views, "training views with a label preview")
       ->capture_default_str();
-  app.add_option("--resolution", resolution,
-                 "downscale factor 1, 2, 4 or 8 of the baseline maps and previews")
-      ->capture_default_str();
-  app.add_option("--images", o.scene.images_dir, "image folder inside the scene")
-      ->capture_default_str();
-  app.add_option("--split", split, "train/test split: auto, lerf (images_train/), every8, all")
-      ->capture_default_str();
-  app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
+  stages::add_scene_options(app, o.scene, split, threads,
+                            "downscale factor 1, 2, 4 or 8 of the baseline maps and previews");
   return stages::run_stage(app, argc, argv, [&] {
     const stages::ThreadLimit limit(threads);
-    o.scene.downscale = resolution;
     o.model = model;
     o.split = stages::parse_split(split);
     if (visibility != "depth" && visibility != "frustum")

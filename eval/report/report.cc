@@ -233,8 +233,7 @@ Table query_table(const SceneData& s) {
         miou /= std::max<size_t>(1, q["views"].size());
       }
       rows[name][1 + 2 * i] = fmt::format("{}", q.at("object").get<int>());
-      rows[name][2 + 2 * i] =
-          lerf ? cell(miou) + " / " + cell(percent(q["mbiou"])) : cell(miou);
+      rows[name][2 + 2 * i] = lerf ? cell(miou) + " / " + cell(percent(q["mbiou"])) : cell(miou);
     }
   }
   for (const std::string& name : order) t.rows.push_back(rows[name]);
@@ -245,7 +244,8 @@ std::optional<Table> similarity_table(const SceneData& s) {
   if (s.input.queries.empty() || !fs::exists(s.input.queries)) return std::nullopt;
   const json q = json::parse(splat::read_text_file(s.input.queries));
   Table t;
-  t.caption = "Text retrieval (op2gs-query): cosine similarity of the chosen object and the runner-up";
+  t.caption =
+      "Text retrieval (op2gs-query): cosine similarity of the chosen object and the runner-up";
   t.header = {"query", "object", "similarity", "runner-up", "similarity "};
   const auto objects = q.at("objects").get<std::vector<int>>();
   for (const json& a : q.at("queries")) {
@@ -275,7 +275,7 @@ splat::ImageRGB overlay(const splat::ImageRGB& photo, const Mask& truth, const M
   for (size_t p = 0; p < truth.on.size(); ++p) {
     float color[3] = {-1, -1, -1};
     const bool t = truth.on[p], e = pred && pred->on[p];
-    if (!pred && t) color[0] = 1, color[1] = 0.85f, color[2] = 0;  // ground truth: yellow
+    if (!pred && t) color[0] = 1, color[1] = 0.85f, color[2] = 0;            // ground truth: yellow
     if (pred && t && e) color[0] = 0.1f, color[1] = 0.85f, color[2] = 0.1f;  // right
     if (pred && !t && e) color[0] = 0.95f, color[1] = 0.1f, color[2] = 0.1f;  // false positive
     if (pred && t && !e) color[0] = 0.1f, color[1] = 0.3f, color[2] = 1.0f;   // missed
@@ -309,9 +309,10 @@ std::string scene_figures(const SceneData& s, int width) {
                                         : read_lerf_mask_ground_truth(s.input.scene);
   std::vector<std::map<std::pair<std::string, std::string>, std::pair<int, double>>> views;
   for (const Row& r : s.rows) views.push_back(row_views(r));
-  std::string h = "<p class=\"legend\">Masks coloured by error: <span style=\"color:#1d1\">right</span>, "
-                  "<span style=\"color:#e22\">predicted, not true</span>, "
-                  "<span style=\"color:#25f\">true, missed</span>.</p>\n";
+  std::string h =
+      "<p class=\"legend\">Masks coloured by error: <span style=\"color:#1d1\">right</span>, "
+      "<span style=\"color:#e22\">predicted, not true</span>, "
+      "<span style=\"color:#25f\">true, missed</span>.</p>\n";
   for (size_t k = 0; k < gt.test_views.size(); ++k) {
     const std::string& view = gt.test_views[k];
     const fs::path photo_file = s.input.scene / "images" / view;

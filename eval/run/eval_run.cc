@@ -160,8 +160,8 @@ EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const E
     for (const NamedPredictions& p : o.predictions)
       for (const auto& [mode, objects] : modes) {
         const auto masks_of = [&](size_t i) { return read_view_predictions(p.folder, views[i]); };
-        const OvsScore s = objects ? score_ovs_selected(gt, *objects, masks_of)
-                                   : score_ovs_oracle(gt, masks_of);
+        const OvsScore s =
+            objects ? score_ovs_selected(gt, *objects, masks_of) : score_ovs_oracle(gt, masks_of);
         add_row(p, mode, s.miou, s.accuracy, ovs_json(gt, s));
       }
     metrics = {{"protocol", "3dovs reference (one-hot argmax, per-class IoU, pixel accuracy)"},

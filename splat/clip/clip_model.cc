@@ -42,7 +42,8 @@ class WeightReader {
   const std::vector<int64_t>& shape(const std::string& name, size_t dims) const {
     const auto& s = file_.shape(name);
     if (s.size() != dims)
-      throw InputError(file_.path(), fmt::format("tensor {} should have {} dimensions", name, dims));
+      throw InputError(file_.path(),
+                       fmt::format("tensor {} should have {} dimensions", name, dims));
     return s;
   }
   bool has(const std::string& name) const { return file_.has(name); }
@@ -111,7 +112,8 @@ ClipVisionWeights read_vision(const WeightReader& r, const fs::path& config) {
   const std::vector<int64_t> patch = r.shape("vision_model.embeddings.patch_embedding.weight", 4);
   const int64_t width = patch[0];
   if (patch[1] != 3 || patch[2] != patch[3])
-    throw InputError(r.path(), "vision_model.embeddings.patch_embedding.weight is not (W, 3, P, P)");
+    throw InputError(r.path(),
+                     "vision_model.embeddings.patch_embedding.weight is not (W, 3, P, P)");
   v.patch_size = int(patch[2]);
   const int64_t positions = r.shape("vision_model.embeddings.position_embedding.weight", 2)[0];
   const int grid = int(std::lround(std::sqrt(double(positions - 1))));
@@ -162,9 +164,9 @@ RowMatrix layer_norm(const RowMatrix& x, const Eigen::VectorXf& weight,
     const float mean = x.row(i).mean();
     const float variance = (x.row(i).array() - mean).square().mean();
     const float scale = 1.0f / std::sqrt(variance + kLayerNormEps);
-    y.row(i) = ((x.row(i).array() - mean) * scale * weight.transpose().array() +
-                bias.transpose().array())
-                   .matrix();
+    y.row(i) =
+        ((x.row(i).array() - mean) * scale * weight.transpose().array() + bias.transpose().array())
+            .matrix();
   }
   return y;
 }
@@ -228,9 +230,10 @@ ClipFiles ClipFiles::in(const fs::path& dir) {
               dir / "merges.txt"};
   for (const fs::path& p : {f.model, f.vocab, f.merges})
     if (!fs::exists(p))
-      throw InputError(p, "missing; download model.safetensors, config.json, vocab.json and "
-                          "merges.txt of openai/clip-vit-base-patch16 into this folder "
-                          "(scripts/get_clip.sh, docs/clip.md)");
+      throw InputError(p,
+                       "missing; download model.safetensors, config.json, vocab.json and "
+                       "merges.txt of openai/clip-vit-base-patch16 into this folder "
+                       "(scripts/get_clip.sh, docs/clip.md)");
   return f;
 }
 
@@ -266,7 +269,8 @@ ClipModel::ClipModel(ClipVisionWeights vision, ClipTextWeights text)
 
 Eigen::VectorXf ClipModel::encode_image(const ClipPixels& pixels) const {
   const ClipVisionWeights& v = vision_;
-  if (pixels.size != v.image_size || pixels.values.size() != size_t(3) * v.image_size * v.image_size)
+  if (pixels.size != v.image_size ||
+      pixels.values.size() != size_t(3) * v.image_size * v.image_size)
     throw std::invalid_argument(
         fmt::format("CLIP expects {0}x{0} pixels, got {1}x{1}", v.image_size, pixels.size));
   const Eigen::Index width = v.class_embedding.size();
@@ -290,7 +294,8 @@ Eigen::VectorXf ClipModel::encode_text(const std::vector<int32_t>& ids) const {
   for (size_t i = 0; i < ids.size(); ++i) {
     if (ids[i] < 0 || ids[i] >= t.token_embedding.rows())
       throw std::invalid_argument(fmt::format("token ID {} is outside the vocabulary", ids[i]));
-    x.row(Eigen::Index(i)) = t.token_embedding.row(ids[i]) + t.position_embedding.row(Eigen::Index(i));
+    x.row(Eigen::Index(i)) =
+        t.token_embedding.row(ids[i]) + t.position_embedding.row(Eigen::Index(i));
   }
   for (const TransformerBlock& b : t.blocks) run_block(x, b, t.heads, true);
   size_t pool = ids.size() - 1;

@@ -106,8 +106,8 @@ Tensor SafetensorsFile::read(const std::string& name) const {
   const Entry& e = entry(name);
   const size_t bytes_per = element_size(e.dtype);
   if (!bytes_per)
-    throw InputError(file_, fmt::format("tensor {} has dtype {}, not F32, F16 or BF16", name,
-                                        e.dtype));
+    throw InputError(file_,
+                     fmt::format("tensor {} has dtype {}, not F32, F16 or BF16", name, e.dtype));
   uint64_t count = 1;
   for (int64_t d : e.shape) count *= uint64_t(d);
   if (count * bytes_per != e.end - e.begin)
@@ -137,8 +137,7 @@ Tensor SafetensorsFile::read(const std::string& name,
                              const std::vector<int64_t>& expected_shape) const {
   if (entry(name).shape != expected_shape)
     throw InputError(file_, fmt::format("tensor {} has shape {}, expected {}", name,
-                                        shape_text(entry(name).shape),
-                                        shape_text(expected_shape)));
+                                        shape_text(entry(name).shape), shape_text(expected_shape)));
   return read(name);
 }
 
@@ -147,7 +146,8 @@ void write_safetensors(const fs::path& file, const std::map<std::string, Tensor>
   uint64_t offset = 0;
   for (const auto& [name, t] : tensors) {
     const uint64_t bytes = 4 * t.values.size();
-    header[name] = {{"dtype", "F32"}, {"shape", t.shape}, {"data_offsets", {offset, offset + bytes}}};
+    header[name] = {
+        {"dtype", "F32"}, {"shape", t.shape}, {"data_offsets", {offset, offset + bytes}}};
     offset += bytes;
   }
   std::string text = header.dump();

@@ -21,7 +21,8 @@ namespace {
 
 std::u32string to_u32(const icu::UnicodeString& s) {
   std::u32string out;
-  for (int32_t i = 0; i < s.length(); i = s.moveIndex32(i, 1)) out.push_back(char32_t(s.char32At(i)));
+  for (int32_t i = 0; i < s.length(); i = s.moveIndex32(i, 1))
+    out.push_back(char32_t(s.char32At(i)));
   return out;
 }
 
@@ -69,8 +70,8 @@ std::u32string numeric_reference(uint64_t n) {
 // legacy forms, which html.unescape also accepts as a prefix ("&ampx" -> "&x").
 const std::vector<std::pair<std::u32string, char32_t>>& named_references() {
   static const std::vector<std::pair<std::u32string, char32_t>> kNames = {
-      {U"amp;", U'&'},   {U"amp", U'&'},  {U"lt;", U'<'},     {U"lt", U'<'},
-      {U"gt;", U'>'},    {U"gt", U'>'},   {U"quot;", U'"'},   {U"quot", U'"'},
+      {U"amp;", U'&'},   {U"amp", U'&'},   {U"lt;", U'<'},   {U"lt", U'<'},
+      {U"gt;", U'>'},    {U"gt", U'>'},    {U"quot;", U'"'}, {U"quot", U'"'},
       {U"apos;", U'\''}, {U"nbsp;", 0xa0}, {U"nbsp", 0xa0}};
   return kNames;
 }
@@ -107,8 +108,8 @@ std::u32string unescape_html(const std::u32string& s) {
     }
     // A name: up to 32 characters other than \t \n \f space < & # ;, then ';'?
     size_t k = j;
-    while (k < s.size() && k - j < 32 && std::u32string_view(U"\t\n\f <&#;").find(s[k]) ==
-                                              std::u32string_view::npos)
+    while (k < s.size() && k - j < 32 &&
+           std::u32string_view(U"\t\n\f <&#;").find(s[k]) == std::u32string_view::npos)
       ++k;
     if (k == j) {
       out.push_back(s[i++]);
@@ -196,8 +197,8 @@ ClipTokenizer::ClipTokenizer(const fs::path& vocab_json, const fs::path& merges_
 std::string ClipTokenizer::clean(std::string_view text) {
   UErrorCode status = U_ZERO_ERROR;
   const icu::Normalizer2* nfc = icu::Normalizer2::getNFCInstance(status);
-  icu::UnicodeString u = icu::UnicodeString::fromUTF8(
-      icu::StringPiece(text.data(), int32_t(text.size())));
+  icu::UnicodeString u =
+      icu::UnicodeString::fromUTF8(icu::StringPiece(text.data(), int32_t(text.size())));
   if (U_SUCCESS(status)) u = nfc->normalize(u, status);
   if (U_FAILURE(status)) throw std::runtime_error("ICU normalisation failed");
   std::u32string s = collapse_whitespace(unescape_html(unescape_html(to_u32(u))));
@@ -220,8 +221,8 @@ std::vector<std::string> ClipTokenizer::split_words(const std::string& cleaned) 
       end = i + kStartText.size();
     } else if (s.compare(i, kEndText.size(), kEndText) == 0) {
       end = i + kEndText.size();
-    } else if (c == U'\'' && i + 1 < s.size() && std::u32string_view(U"stmd").find(s[i + 1]) !=
-                                                       std::u32string_view::npos) {
+    } else if (c == U'\'' && i + 1 < s.size() &&
+               std::u32string_view(U"stmd").find(s[i + 1]) != std::u32string_view::npos) {
       end = i + 2;
     } else if (c == U'\'' && (s.compare(i, 3, U"'re") == 0 || s.compare(i, 3, U"'ve") == 0 ||
                               s.compare(i, 3, U"'ll") == 0)) {
@@ -231,8 +232,8 @@ std::vector<std::string> ClipTokenizer::split_words(const std::string& cleaned) 
     } else if (is_number(c)) {
       end = i + 1;
     } else if (!is_regex_space(c)) {
-      for (end = i; end < s.size() && !is_regex_space(s[end]) && !is_letter(s[end]) &&
-                    !is_number(s[end]);)
+      for (end = i;
+           end < s.size() && !is_regex_space(s[end]) && !is_letter(s[end]) && !is_number(s[end]);)
         ++end;
     } else {
       ++i;  // whitespace between pieces

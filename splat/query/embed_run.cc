@@ -35,8 +35,8 @@ ImageRGB masked_square_crop(const ImageRGB& image, const std::vector<uint8_t>& m
   int x0 = W, y0 = H, x1 = -1, y1 = -1;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x)
-      if (mask[size_t(y) * W + x]) x0 = std::min(x0, x), x1 = std::max(x1, x),
-                                   y0 = std::min(y0, y), y1 = std::max(y1, y);
+      if (mask[size_t(y) * W + x])
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
   if (x1 < 0) throw std::invalid_argument("masked_square_crop: empty mask");
   const int side =
       std::max(1, int(std::lround(std::max(x1 - x0 + 1, y1 - y0 + 1) * (1 + 2 * margin))));
@@ -74,9 +74,9 @@ RenderSettings mask_settings(const CheckpointModel& m, const EmbedRunOptions& o)
 // For every object, its training views by mask area, the largest first (at
 // most N, each with at least the minimum area).
 std::map<int32_t, std::vector<Candidate>> choose_views(const GaussianModel& model, Scene& scene,
-                                                        const std::vector<size_t>& views,
-                                                        const RenderSettings& settings,
-                                                        const EmbedRunOptions& o) {
+                                                       const std::vector<size_t>& views,
+                                                       const RenderSettings& settings,
+                                                       const EmbedRunOptions& o) {
   const CpuRenderer renderer;
   std::map<int32_t, std::vector<Candidate>> chosen;
   RenderOutput r;
@@ -109,10 +109,11 @@ json to_json(const ObjectEmbeddings& e, const EmbedRunOptions& o, const fs::path
     json views = json::array();
     for (const ObjectView& v : obj.views)
       views.push_back({{"view", v.view}, {"area", v.area}, {"crop", v.crop}});
-    objects.push_back({{"id", obj.id},
-                       {"views", views},
-                       {"embedding", std::vector<float>(obj.embedding.data(),
-                                                        obj.embedding.data() + obj.embedding.size())}});
+    objects.push_back(
+        {{"id", obj.id},
+         {"views", views},
+         {"embedding",
+          std::vector<float>(obj.embedding.data(), obj.embedding.data() + obj.embedding.size())}});
   }
   return {{"clip", e.clip_dir.string()},
           {"model", model.string()},
@@ -158,14 +159,15 @@ ObjectEmbeddings run_embed(const fs::path& scene_dir, const fs::path& out,
     const std::shared_ptr<const ImageRGB> image = scene->image(v);
     const size_t pixels = size_t(r.width) * r.height;
     for (const auto& [id, slot] : entries) {
-      const size_t plane = size_t(std::find(r.instance_map_labels.begin(),
-                                            r.instance_map_labels.end(), id) -
-                                  r.instance_map_labels.begin());
+      const size_t plane =
+          size_t(std::find(r.instance_map_labels.begin(), r.instance_map_labels.end(), id) -
+                 r.instance_map_labels.begin());
       const float* S = &r.instance_maps[plane * pixels];
       std::vector<uint8_t> mask(pixels);
       for (size_t p = 0; p < pixels; ++p) mask[p] = S[p] > o.tau;
       const ImageRGB crop = masked_square_crop(*image, mask, o.margin, o.crop_background);
-      const std::string file = fmt::format("crops/{}/{}.png", id, fs::path(view.name).stem().string());
+      const std::string file =
+          fmt::format("crops/{}/{}.png", id, fs::path(view.name).stem().string());
       write_image_rgb(out / file, crop);
       ObjectEmbedding& obj = objects[id];
       obj.id = id;

@@ -56,8 +56,8 @@ struct ObjectEmbeddings {
   std::vector<int32_t> unseen;           // objects without a usable view
 };
 
-ObjectEmbeddings run_embed(const std::filesystem::path& scene_dir,
-                           const std::filesystem::path& out, const EmbedRunOptions& options);
+ObjectEmbeddings run_embed(const std::filesystem::path& scene_dir, const std::filesystem::path& out,
+                           const EmbedRunOptions& options);
 
 // The crop of the paper's C(M ⊗ I): the image inside the mask (background
 // elsewhere), in a square around the mask's bounding box enlarged by the

@@ -32,7 +32,8 @@ namespace {
 
 std::string fill(const std::string& templ, const std::string& query) {
   std::string text = templ;
-  for (size_t at = text.find("{}"); at != std::string::npos; at = text.find("{}", at + query.size()))
+  for (size_t at = text.find("{}"); at != std::string::npos;
+       at = text.find("{}", at + query.size()))
     text.replace(at, 2, query);
   return text;
 }
@@ -53,15 +54,16 @@ QueryResults run_query(const fs::path& out, const QueryRunOptions& o) {
   const ClipModel clip = ClipModel::load(files);
   const ClipTokenizer tokenizer(files.vocab, files.merges);
   if (objects.objects.front().embedding.size() != clip.embedding_size())
-    throw InputError(o.embeddings, fmt::format("embeddings have {} values, the CLIP model {}",
-                                               objects.objects.front().embedding.size(),
-                                               clip.embedding_size()));
+    throw InputError(o.embeddings,
+                     fmt::format("embeddings have {} values, the CLIP model {}",
+                                 objects.objects.front().embedding.size(), clip.embedding_size()));
   QueryResults results;
   for (const ObjectEmbedding& obj : objects.objects) results.objects.push_back(obj.id);
   for (const std::string& query : o.queries) {
     Eigen::VectorXf text = Eigen::VectorXf::Zero(clip.embedding_size());
     for (const std::string& t : o.templates)
-      text += clip.encode_text(tokenizer.encode(fill(t, query), clip.context_length())).normalized();
+      text +=
+          clip.encode_text(tokenizer.encode(fill(t, query), clip.context_length())).normalized();
     text.normalize();
     QueryAnswer a;
     a.query = query;

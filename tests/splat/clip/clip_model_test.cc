@@ -3,13 +3,14 @@
 // and file layout with random weights; reference.json holds what PyTorch
 // computed from it (in float64).
 
+#include "splat/clip/clip_model.h"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "splat/atomic_file.h"
-#include "splat/clip/clip_model.h"
 #include "splat/clip/safetensors.h"
 #include "splat/clip/tokenizer.h"
 #include "splat/error.h"

@@ -194,7 +194,8 @@ TEST(StageTwo, EmbedsObjectsAnswersQueriesAndScoresQueryMode) {
     EXPECT_EQ(row["object"].get<int32_t>(), answers.object_for(row["query"]));
 
   // Query mode with the oracle's own choices reproduces the oracle's score.
-  nlohmann::json oracle_answers = {{"objects", answers.objects}, {"queries", nlohmann::json::array()}};
+  nlohmann::json oracle_answers = {{"objects", answers.objects},
+                                   {"queries", nlohmann::json::array()}};
   for (const auto& row : metrics["results"]["dual"]["queries"])
     oracle_answers["queries"].push_back({{"query", row["query"]},
                                          {"object", row["object"]},
@@ -210,8 +211,12 @@ TEST(StageTwo, EmbedsObjectsAnswersQueriesAndScoresQueryMode) {
   fs::create_directories(a / "work/eval");
   fs::copy_file(a / "metrics.json", a / "work/eval/metrics.json");
   eval::ReportOptions report;
-  report.scenes = {{"tiny", scene(), a / "work/eval/metrics.json", a / "render",
-                    {a / "learn/training_curve.png"}, a / "query/query.json"}};
+  report.scenes = {{"tiny",
+                    scene(),
+                    a / "work/eval/metrics.json",
+                    a / "render",
+                    {a / "learn/training_curve.png"},
+                    a / "query/query.json"}};
   const eval::ReportFiles files = eval::write_report(a / "report", report);
   const std::string md = testing_util::read_file(files.markdown);
   EXPECT_NE(md.find("dual (oracle) mIoU"), std::string::npos) << md;
@@ -223,8 +228,8 @@ TEST(StageTwo, EmbedsObjectsAnswersQueriesAndScoresQueryMode) {
   const std::string chromium = fs::exists("/usr/bin/chromium") ? "/usr/bin/chromium" : "chromium";
   const int rc = std::system(("timeout 120 " + chromium +
                               " --headless --no-sandbox --disable-gpu --hide-scrollbars "
-                              "--window-size=1200,1600 --screenshot=" + shot.string() +
-                              " file://" + files.html.string() + " >/dev/null 2>&1")
+                              "--window-size=1200,1600 --screenshot=" +
+                              shot.string() + " file://" + files.html.string() + " >/dev/null 2>&1")
                                  .c_str());
   ASSERT_EQ(rc, 0) << "headless Chromium failed; install it with scripts/setup.sh --tests";
   const ImageRGB page = read_image_rgb(shot);
@@ -234,7 +239,7 @@ TEST(StageTwo, EmbedsObjectsAnswersQueriesAndScoresQueryMode) {
     dark += c[0] + c[1] + c[2] < 1.5f;
     colored += std::max({c[0], c[1], c[2]}) - std::min({c[0], c[1], c[2]}) > 0.2f;
   }
-  EXPECT_GT(dark, size_t(page.width) * page.height / 100);     // text, tables, photos
+  EXPECT_GT(dark, size_t(page.width) * page.height / 100);      // text, tables, photos
   EXPECT_GT(colored, size_t(page.width) * page.height / 1000);  // the embedded figures
 }
 

@@ -1,8 +1,8 @@
 // The crop CLIP sees of an object (paper: C(M ⊗ I)).
 
-#include <gtest/gtest.h>
-
 #include "splat/query/embed_run.h"
+
+#include <gtest/gtest.h>
 
 namespace splat {
 namespace {
