@@ -1,5 +1,7 @@
 #include "eval/metrics/lerf_mask.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -63,6 +65,47 @@ ObjectMasks masks_from_label_map(const std::vector<int32_t>& labels, int width, 
 
 namespace {
 
+Mask read_truth(const fs::path& file, int truth_width) {
+  Mask truth = read_mask(file);
+  if (truth_width > 0 && truth.width != truth_width)
+    truth = resize_mask_nearest(
+        truth, truth_width,
+        std::max(1, int(std::lround(double(truth.height) * truth_width / truth.width))));
+  return truth;
+}
+
+}  // namespace
+
+TruthMasks::Entry& TruthMasks::entry(const fs::path& file) {
+  auto it = masks_.find(file);
+  if (it != masks_.end()) return it->second;
+  return masks_.emplace(file, Entry{read_truth(file, truth_width_), {}, false}).first->second;
+}
+
+void TruthMasks::prefetch(const std::vector<fs::path>& files) {
+  std::vector<fs::path> missing;
+  for (const fs::path& f : files)
+    if (!masks_.count(f)) missing.push_back(f);
+  std::vector<Mask> decoded(missing.size());
+  tbb::parallel_for(size_t(0), missing.size(),
+                    [&](size_t i) { decoded[i] = read_truth(missing[i], truth_width_); });
+  for (size_t i = 0; i < missing.size(); ++i)
+    masks_.emplace(missing[i], Entry{std::move(decoded[i]), {}, false});
+}
+
+const Mask& TruthMasks::get(const fs::path& file) { return entry(file).mask; }
+
+const Mask& TruthMasks::boundary(const fs::path& file) {
+  Entry& e = entry(file);
+  if (!e.has_boundary) {
+    e.boundary = mask_boundary(e.mask, boundary_width(e.mask.width, e.mask.height));
+    e.has_boundary = true;
+  }
+  return e.boundary;
+}
+
+namespace {
+
 // Scores every query with the object choose() picks on the first view where
 // the query has ground truth.
 using ChooseObject =
@@ -71,7 +114,9 @@ using ChooseObject =
 
 SceneScore score_queries(const LerfMaskGroundTruth& gt,
                          const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width,
-                         const ChooseObject& choose) {
+                         TruthMasks* truths, const ChooseObject& choose) {
+  TruthMasks local(truth_width);
+  TruthMasks& truth_masks = truths ? *truths : local;
   std::map<size_t, ObjectMasks> predictions;  // loaded once per view
   auto predicted = [&](size_t k) -> const ObjectMasks& {
     auto it = predictions.find(k);
@@ -90,11 +135,7 @@ SceneScore score_queries(const LerfMaskGroundTruth& gt,
     for (size_t k = 0; k < gt.masks.size(); ++k) {
       const auto f = gt.masks[k].find(query);
       if (f == gt.masks[k].end()) continue;
-      Mask truth = read_mask(f->second);
-      if (truth_width > 0 && truth.width != truth_width)
-        truth = resize_mask_nearest(
-            truth, truth_width,
-            std::max(1, int(std::lround(double(truth.height) * truth_width / truth.width))));
+      const Mask& truth = truth_masks.get(f->second);
       if (q.object < 0)
         q.object = choose(
             query, predicted(k),
@@ -102,7 +143,8 @@ SceneScore score_queries(const LerfMaskGroundTruth& gt,
       const Mask pred = object_mask(k, q.object, truth.width, truth.height);
       q.views.push_back(k);
       q.iou.push_back(mask_iou(truth, pred));
-      q.biou.push_back(boundary_iou(truth, pred));
+      q.biou.push_back(mask_iou(truth_masks.boundary(f->second),
+                                mask_boundary(pred, boundary_width(pred.width, pred.height))));
     }
     if (q.views.empty()) continue;
     for (size_t i = 0; i < q.views.size(); ++i) q.mean_iou += q.iou[i], q.mean_biou += q.biou[i];
@@ -121,8 +163,9 @@ SceneScore score_queries(const LerfMaskGroundTruth& gt,
 }  // namespace
 
 SceneScore score_oracle(const LerfMaskGroundTruth& gt,
-                        const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width) {
-  return score_queries(gt, masks_of, truth_width,
+                        const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width,
+                        TruthMasks* truths) {
+  return score_queries(gt, masks_of, truth_width, truths,
                        [](const std::string&, const ObjectMasks& predicted,
                           const std::function<Mask(int32_t)>& mask_of, const Mask& truth) {
                          int32_t object = 0;  // nothing predicted at all: no object
@@ -136,8 +179,9 @@ SceneScore score_oracle(const LerfMaskGroundTruth& gt,
 }
 
 SceneScore score_selected(const LerfMaskGroundTruth& gt, const QueryObjects& objects,
-                          const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width) {
-  return score_queries(gt, masks_of, truth_width,
+                          const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width,
+                          TruthMasks* truths) {
+  return score_queries(gt, masks_of, truth_width, truths,
                        [&](const std::string& query, const ObjectMasks&,
                            const std::function<Mask(int32_t)>&, const Mask&) {
                          const auto it = objects.find(query);
@@ -147,7 +191,14 @@ SceneScore score_selected(const LerfMaskGroundTruth& gt, const QueryObjects& obj
                        });
 }
 
-LerfMaskGroundTruth lerf_mask_from_ovs(const OvsGroundTruth& ovs) {
+LerfMaskGroundTruth lerf_mask_from_ovs(const OvsGroundTruth& ovs, TruthMasks* truths) {
+  TruthMasks local;
+  TruthMasks& truth_masks = truths ? *truths : local;
+  std::vector<fs::path> files;
+  for (const auto& view : ovs.masks)
+    for (const fs::path& f : view)
+      if (!f.empty()) files.push_back(f);
+  truth_masks.prefetch(files);
   LerfMaskGroundTruth gt;
   gt.queries = ovs.classes;
   for (size_t i = 0; i < ovs.views.size(); ++i) {
@@ -156,7 +207,7 @@ LerfMaskGroundTruth lerf_mask_from_ovs(const OvsGroundTruth& ovs) {
     for (size_t c = 0; c < ovs.classes.size(); ++c) {
       // A class absent from a view (an empty mask) is not a pair to score:
       // the LERF-Mask script would give it NaN and poison every mean.
-      if (ovs.masks[i][c].empty() || read_mask(ovs.masks[i][c]).count() == 0) continue;
+      if (ovs.masks[i][c].empty() || truth_masks.get(ovs.masks[i][c]).count() == 0) continue;
       masks[ovs.classes[c]] = ovs.masks[i][c];
     }
     gt.masks.push_back(masks);

@@ -42,6 +42,27 @@ struct SceneScore {
 // Predicted object masks of one test view, by object ID.
 using ObjectMasks = std::map<int32_t, Mask>;
 
+// Ground-truth masks read (and resized to truth_width) once, however many
+// prediction folders and modes are scored against them.
+class TruthMasks {
+ public:
+  explicit TruthMasks(int truth_width = 0) : truth_width_(truth_width) {}
+  const Mask& get(const std::filesystem::path& file);
+  // Reads these files now, in parallel.
+  void prefetch(const std::vector<std::filesystem::path>& files);
+  // Its boundary for the boundary IoU (dilation ratio 0.02).
+  const Mask& boundary(const std::filesystem::path& file);
+
+ private:
+  struct Entry {
+    Mask mask, boundary;
+    bool has_boundary = false;
+  };
+  Entry& entry(const std::filesystem::path& file);
+  int truth_width_;
+  std::map<std::filesystem::path, Entry> masks_;
+};
+
 // Oracle mode: for each query, the object whose mask has the highest IoU on
 // the first test view where the query has ground truth (ties: smaller ID);
 // that object's masks are scored on every view with ground truth. masks_of(k)
@@ -51,8 +72,11 @@ using ObjectMasks = std::map<int32_t, Mask>;
 // truth_width > 0 first resizes each ground-truth mask (nearest neighbour) to
 // that width, keeping its aspect ratio: the downsampled evaluation the 3DGS
 // papers run on 3DOVS masks (ObjectGS: 1440 x 1080).
+// truths, when given, keeps the ground truth read for later calls (its
+// truth width is used).
 SceneScore score_oracle(const LerfMaskGroundTruth& gt,
-                        const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width = 0);
+                        const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width = 0,
+                        TruthMasks* truths = nullptr);
 
 // Query mode: each query's object is given (by text retrieval); its masks are
 // scored as in oracle mode. Throws std::invalid_argument for a query of the
@@ -60,13 +84,15 @@ SceneScore score_oracle(const LerfMaskGroundTruth& gt,
 using QueryObjects = std::map<std::string, int32_t>;
 SceneScore score_selected(const LerfMaskGroundTruth& gt, const QueryObjects& objects,
                           const std::function<ObjectMasks(size_t k)>& masks_of,
-                          int truth_width = 0);
+                          int truth_width = 0, TruthMasks* truths = nullptr);
 
 // The 3DOVS layout as LERF-Mask ground truth: the segmented views as test
 // views, the classes as queries, one binary mask per (view, class) where the
 // class is present (empty masks are left out: the script would score them NaN).
 struct OvsGroundTruth;
-LerfMaskGroundTruth lerf_mask_from_ovs(const OvsGroundTruth& ovs);
+// truths, when given, keeps the masks it reads (the emptiness test reads them
+// at its truth width).
+LerfMaskGroundTruth lerf_mask_from_ovs(const OvsGroundTruth& ovs, TruthMasks* truths = nullptr);
 
 // Masks of every label of a label map (label 0 is background, not an object).
 ObjectMasks masks_from_label_map(const std::vector<int32_t>& labels, int width, int height);

@@ -25,19 +25,23 @@ splat::IdMap read_grey_like_pillow(const fs::path& file) {
   const OIIO::ImageSpec spec = in->spec();
   const int channels = spec.nchannels;
   const bool sixteen = spec.format.basetype == OIIO::TypeDesc::UINT16;
-  std::vector<uint16_t> px(size_t(spec.width) * spec.height * channels);
-  // Read in the file's own scale (8 or 16 bit) so that the luma and clipping
-  // below match Pillow's integer arithmetic.
-  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT16, px.data()))
-    throw splat::InputError(file, "cannot decode the mask: " + in->geterror());
+  // Read in the file's own scale (8 or 16 bit, no conversion) so that the
+  // luma and clipping below match Pillow's integer arithmetic.
+  std::vector<uint8_t> px8;
+  std::vector<uint16_t> px16;
+  const size_t values = size_t(spec.width) * spec.height * channels;
+  const bool ok = sixteen ? (px16.resize(values),
+                             in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT16, px16.data()))
+                          : (px8.resize(values),
+                             in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, px8.data()));
+  if (!ok) throw splat::InputError(file, "cannot decode the mask: " + in->geterror());
   splat::IdMap grey(spec.width, spec.height);
-  // OpenImageIO scales 8-bit values by 257 when reading them as 16 bit.
-  const auto v8 = [&](uint16_t v) { return sixteen ? std::min<int>(v, 255) : v / 257; };
+  const auto v8 = [&](size_t i) { return sixteen ? std::min<int>(px16[i], 255) : px8[i]; };
   for (size_t p = 0; p < grey.ids.size(); ++p) {
-    const uint16_t* c = &px[p * channels];
+    const size_t c = p * channels;
     grey.ids[p] = uint16_t(
-        channels >= 3 ? (19595 * v8(c[0]) + 38470 * v8(c[1]) + 7471 * v8(c[2]) + 0x8000) >> 16
-                      : v8(c[0]));
+        channels >= 3 ? (19595 * v8(c) + 38470 * v8(c + 1) + 7471 * v8(c + 2) + 0x8000) >> 16
+                      : v8(c));
   }
   return grey;
 }
@@ -76,29 +80,42 @@ int boundary_width(int width, int height, double ratio) {
 }
 
 namespace {
-// out[x] = 1 where in[x - d .. x + d] are all 1 (outside counts as 0), for
-// `n` values `stride` apart.
-void erode_line(const uint8_t* in, uint8_t* out, int n, size_t stride, int d,
-                std::vector<int>& prefix) {
+
+// out[x] = 1 where in[x - d .. x + d] are all 1 (outside counts as 0).
+void erode_row(const uint8_t* in, uint8_t* out, int n, int d, std::vector<int>& prefix) {
   prefix.assign(size_t(n) + 1, 0);
-  for (int i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + in[i * stride];
+  for (int i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + in[i];
   for (int i = 0; i < n; ++i) {
     const int lo = i - d, hi = i + d + 1;
-    out[i * stride] = lo >= 0 && hi <= n && prefix[hi] - prefix[lo] == 2 * d + 1;
+    out[i] = lo >= 0 && hi <= n && prefix[hi] - prefix[lo] == 2 * d + 1;
   }
 }
+
 }  // namespace
 
 Mask mask_boundary(const Mask& m, int d) {
   const int W = m.width, H = m.height;
-  Mask rows(W, H), eroded(W, H);
+  Mask rows(W, H);
   std::vector<int> prefix;
-  // A square erosion is a row erosion followed by a column erosion.
+  // A square erosion is a row erosion followed by a column erosion; the
+  // column one runs on column prefix sums built row by row (cache-friendly).
   for (int y = 0; y < H; ++y)
-    erode_line(&m.on[size_t(y) * W], &rows.on[size_t(y) * W], W, 1, d, prefix);
-  for (int x = 0; x < W; ++x) erode_line(&rows.on[x], &eroded.on[x], H, size_t(W), d, prefix);
+    erode_row(&m.on[size_t(y) * W], &rows.on[size_t(y) * W], W, d, prefix);
+  std::vector<int> column((size_t(H) + 1) * W, 0);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      column[size_t(y + 1) * W + x] = column[size_t(y) * W + x] + rows.on[size_t(y) * W + x];
   Mask boundary(W, H);
-  for (size_t p = 0; p < m.on.size(); ++p) boundary.on[p] = m.on[p] && !eroded.on[p];
+  for (int y = 0; y < H; ++y) {
+    const bool inside = y - d >= 0 && y + d + 1 <= H;
+    const int* lo = inside ? &column[size_t(y - d) * W] : nullptr;
+    const int* hi = inside ? &column[size_t(y + d + 1) * W] : nullptr;
+    for (int x = 0; x < W; ++x) {
+      const size_t p = size_t(y) * W + x;
+      const bool eroded = inside && hi[x] - lo[x] == 2 * d + 1;
+      boundary.on[p] = m.on[p] && !eroded;
+    }
+  }
   return boundary;
 }
 

@@ -1,5 +1,7 @@
 #include "eval/metrics/predictions.h"
 
+#include <tbb/parallel_for.h>
+
 #include <vector>
 
 #include "splat/error.h"
@@ -20,13 +22,18 @@ ObjectMasks read_view_predictions(const fs::path& folder, const std::string& vie
   if (!fs::is_directory(masks))
     throw splat::InputError(folder, "no prediction for view " + view_name + " (neither " + stem +
                                         ".png nor " + stem + "/<id>.png)");
-  ObjectMasks out;
+  std::vector<std::pair<int32_t, fs::path>> files;
   for (const auto& f : fs::directory_iterator(masks)) {
     if (f.path().extension() != ".png") continue;
     const std::string id = f.path().stem().string();
     if (id.empty() || id.find_first_not_of("0123456789") != std::string::npos) continue;
-    out[std::stoi(id)] = read_mask(f.path());
+    files.push_back({std::stoi(id), f.path()});
   }
+  std::vector<Mask> decoded(files.size());
+  tbb::parallel_for(size_t(0), files.size(),
+                    [&](size_t i) { decoded[i] = read_mask(files[i].second); });
+  ObjectMasks out;
+  for (size_t i = 0; i < files.size(); ++i) out[files[i].first] = std::move(decoded[i]);
   return out;
 }
 

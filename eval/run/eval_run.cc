@@ -138,17 +138,29 @@ EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const E
     // Only image quality or poses.
   } else if ((r.protocol = protocol_of(scene, o.protocol)) != Protocol::kOvs) {
     const bool on_ovs = r.protocol == Protocol::kOvsLerfMask;
-    const LerfMaskGroundTruth gt = on_ovs ? lerf_mask_from_ovs(read_ovs_ground_truth(scene))
-                                          : read_lerf_mask_ground_truth(scene);
-    for (const NamedPredictions& p : o.predictions)
+    TruthMasks truths(o.truth_width);
+    const LerfMaskGroundTruth gt = on_ovs
+                                       ? lerf_mask_from_ovs(read_ovs_ground_truth(scene), &truths)
+                                       : read_lerf_mask_ground_truth(scene);
+    std::vector<fs::path> truth_files;
+    for (const auto& view : gt.masks)
+      for (const auto& [query, file] : view) truth_files.push_back(file);
+    truths.prefetch(truth_files);
+    for (const NamedPredictions& p : o.predictions) {
+      std::map<size_t, ObjectMasks> read;  // each view's predictions, read once for both modes
+      const auto masks_of = [&](size_t k) {
+        auto it = read.find(k);
+        if (it == read.end())
+          it = read.emplace(k, read_view_predictions(p.folder, gt.test_views[k])).first;
+        return it->second;
+      };
       for (const auto& [mode, objects] : modes) {
-        const auto masks_of = [&](size_t k) {
-          return read_view_predictions(p.folder, gt.test_views[k]);
-        };
-        const SceneScore s = objects ? score_selected(gt, *objects, masks_of, o.truth_width)
-                                     : score_oracle(gt, masks_of, o.truth_width);
+        const SceneScore s = objects
+                                 ? score_selected(gt, *objects, masks_of, o.truth_width, &truths)
+                                 : score_oracle(gt, masks_of, o.truth_width, &truths);
         add_row(p, mode, s.miou, s.mbiou, score_json(gt, s));
       }
+    }
     metrics = {{"protocol", on_ovs ? "lerf-mask script on 3dovs masks (IoU and boundary IoU)"
                                    : "lerf-mask (IoU and boundary IoU, dilation ratio 0.02)"},
                {"truth_width", o.truth_width},

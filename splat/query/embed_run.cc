@@ -130,7 +130,7 @@ json to_json(const ObjectEmbeddings& e, const EmbedRunOptions& o, const fs::path
 ObjectEmbeddings run_embed(const fs::path& scene_dir, const fs::path& out,
                            const EmbedRunOptions& o) {
   o.Check();
-  const ClipModel clip = ClipModel::load(ClipFiles::in(o.clip_dir));
+  const ClipFiles clip_files = ClipFiles::in(o.clip_dir);  // missing files: fail at once
   const CheckpointModel checkpoint = read_model_file(o.model);
   if (!checkpoint.model.has_labels)
     throw InputError(o.model, "the model has no labels (run op2gs-vote and op2gs-learn)");
@@ -139,6 +139,7 @@ ObjectEmbeddings run_embed(const fs::path& scene_dir, const fs::path& out,
   const auto scene = Scene::load(scene_dir, o.scene);
   const std::vector<size_t> train = split_views(*scene, o.split).train;
   const RenderSettings settings = mask_settings(checkpoint, o);
+  const ClipModel clip = ClipModel::load(clip_files);
 
   spdlog::info("embed: rendering object masks in {} training views", train.size());
   const auto chosen = choose_views(checkpoint.model, *scene, train, settings, o);
