@@ -18,7 +18,7 @@
 
 namespace eval {
 namespace fs = std::filesystem;
-using json = nlohmann::json;
+using json = nlohmann::ordered_json;  // keys in the order written: predictions as given
 
 void ReportOptions::Check() const {
   if (scenes.empty()) throw std::invalid_argument("no scenes to report");
