@@ -66,6 +66,28 @@ const std::vector<float>& group_gradients(const GaussianGradients& g, ParamGroup
   throw std::logic_error("bad group");
 }
 
+namespace {
+
+struct AdamStep {
+  float b1, b2, step_size, inv_bc2_sqrt, eps;
+};
+
+// torch.optim.Adam's update of n values. Plain pointers that do not alias, so
+// that the compiler vectorises it (the file is built with -fno-math-errno,
+// which lets sqrt vectorise too).
+void adam_update(float* __restrict p, const float* __restrict grad, float* __restrict m,
+                 float* __restrict v, size_t n, const AdamStep& a) {
+  for (size_t i = 0; i < n; ++i) {
+    const float mi = a.b1 * m[i] + (1 - a.b1) * grad[i];
+    const float vi = a.b2 * v[i] + (1 - a.b2) * grad[i] * grad[i];
+    m[i] = mi;
+    v[i] = vi;
+    p[i] -= a.step_size * mi / (std::sqrt(vi) * a.inv_bc2_sqrt + a.eps);
+  }
+}
+
+}  // namespace
+
 GaussianAdam::GaussianAdam(size_t n, AdamOptions options) : options_(options) {
   size_ = 0;
   append(n);
@@ -87,24 +109,23 @@ void GaussianAdam::step(GaussianModel& model, const GaussianGradients& grads,
     const double bc2_sqrt = std::sqrt(1 - std::pow(double(options_.beta2), double(s.step)));
     const float step_size = float(lr[gi] / bc1), inv_bc2_sqrt = float(1 / bc2_sqrt);
     const float b1 = options_.beta1, b2 = options_.beta2, eps = options_.eps;
-    auto update = [&](size_t i) {
-      s.m[i] = b1 * s.m[i] + (1 - b1) * grad[i];
-      s.v[i] = b2 * s.v[i] + (1 - b2) * grad[i] * grad[i];
-      p[i] -= step_size * s.m[i] / (std::sqrt(s.v[i]) * inv_bc2_sqrt + eps);
-    };
-    // Values of each Gaussian that can move: all, or the active SH bands.
     const size_t width = size_t(group_width(g));
+    // Values of each Gaussian that can move: all, or the active SH bands.
     const size_t active = g == ParamGroup::kShRest
                               ? size_t(3 * ((active_sh_degree + 1) * (active_sh_degree + 1) - 1))
                               : width;
+    const AdamStep a{b1, b2, step_size, inv_bc2_sqrt, eps};
     if (active == width) {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, p.size(), 1 << 16), [&](const auto& r) {
-        for (size_t i = r.begin(); i < r.end(); ++i) update(i);
+        adam_update(&p[r.begin()], &grad[r.begin()], &s.m[r.begin()], &s.v[r.begin()],
+                    r.size(), a);
       });
     } else {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, size_, 4096), [&](const auto& r) {
-        for (size_t i = r.begin(); i < r.end(); ++i)
-          for (size_t k = 0; k < active; ++k) update(width * i + k);
+        for (size_t i = r.begin(); i < r.end(); ++i) {
+          const size_t at = width * i;
+          adam_update(&p[at], &grad[at], &s.m[at], &s.v[at], active, a);
+        }
       });
     }
   }
