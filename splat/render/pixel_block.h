@@ -22,10 +22,10 @@ inline constexpr LaneOffsets kLaneOffsets{};
 struct PixelBlock {
   int x0 = 0, y0 = 0;  // top-left pixel
   // Pixel-centre bounds of the block, for reach tests.
-  float cx0() const { return float(x0) + 0.5f; }
-  float cy0() const { return float(y0) + 0.5f; }
-  float cx1() const { return float(x0 + kBlockSize) - 0.5f; }
-  float cy1() const { return float(y0 + kBlockSize) - 0.5f; }
+  constexpr float cx0() const { return float(x0) + 0.5f; }
+  constexpr float cy0() const { return float(y0) + 0.5f; }
+  constexpr float cx1() const { return float(x0 + kBlockSize) - 0.5f; }
+  constexpr float cy1() const { return float(y0 + kBlockSize) - 0.5f; }
   // Whether lane l is a pixel of a width x height image, and which.
   bool inside(int l, int width, int height) const {
     return x0 + l % kBlockSize < width && y0 + l / kBlockSize < height;
@@ -34,7 +34,7 @@ struct PixelBlock {
     return size_t(y0 + l / kBlockSize) * width + x0 + l % kBlockSize;
   }
   // Block b (0..15) of the tile whose top-left pixel is (tile_x0, tile_y0).
-  static PixelBlock in_tile(int tile_x0, int tile_y0, int b) {
+  static constexpr PixelBlock in_tile(int tile_x0, int tile_y0, int b) {
     constexpr int per_row = kTileSize / kBlockSize;
     return {tile_x0 + (b % per_row) * kBlockSize, tile_y0 + (b / per_row) * kBlockSize};
   }

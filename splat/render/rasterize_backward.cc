@@ -123,10 +123,11 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0
       g_planes =
           tg[k].plane >= 0 ? &s.g_planes[size_t(tg[k].plane) * kBlocks * kLanes] : &s.zeros[0][0];
     alignas(64) float acc[kEntryGrads][kLanes] = {};
-    for (int b = 0; b < kBlocks; ++b) {
+    // The blocks it reaches, among those with a pixel blended up to or past it.
+    for (unsigned blocks = tg.block_mask[size_t(k)]; blocks; blocks &= blocks - 1) {
+      const int b = __builtin_ctz(blocks);
       if (k >= s.block_last[b]) continue;
       const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
-      if (!tg.reaches(size_t(k), block.cx0(), block.cx1(), block.cy0(), block.cy1())) continue;
       back_block<kColor, kInstance>(tg, size_t(k), block.cx0(), block.cy0(), b,
                                     kInstance ? g_planes + b * kLanes : nullptr, s, acc);
     }
@@ -192,7 +193,7 @@ void rasterize_backward(const RenderSettings& settings, RasterState& st,
       if (lo == hi) continue;  // no entries to write
       const int x0 = int(t % st.bins.tiles_x) * kTileSize,
                 y0 = int(t / st.bins.tiles_x) * kTileSize;
-      tg.gather(st, lo, hi);
+      tg.gather(st, lo, hi, x0, y0);
       load_tile_state(settings, st, grads, color, planes, x0, y0, *s);
       tile_fn(tg, &st.bins.slot_entry[lo], x0, y0, *s, entry_grads);
     }

@@ -98,21 +98,22 @@ inline void blend(const TileGaussians& tg, size_t k, float px0, float py0, Block
 }
 
 template <bool kColor, bool kInstance, bool kLabels>
-void blend_block(const TileGaussians& tg, const PixelBlock& block, BlockState& s) {
-  const size_t n = tg.size();
-  const float x0 = block.cx0(), x1 = block.cx1(), y0 = block.cy0(), y1 = block.cy1();
-  for (size_t k = 0; k < n; ++k) {
-    if (!tg.reaches(k, x0, x1, y0, y1)) continue;
+void blend_block(const TileGaussians& tg, int b, const PixelBlock& block, BlockState& s) {
+  const uint32_t* entries = tg.block_entries.data();
+  const uint32_t begin = tg.block_start[b], end = tg.block_start[b + 1];
+  const float x0 = block.cx0(), y0 = block.cy0();
+  for (uint32_t e = begin; e < end; ++e) {
+    const size_t k = entries[e];
     // Only Gaussians whose label has a map pay for the instance branch.
     if (kInstance && tg[k].plane >= 0)
       blend<kColor, kInstance, kLabels>(tg, k, x0, y0, s);
     else
       blend<kColor, false, kLabels>(tg, k, x0, y0, s);
-    if ((k & 15) == 15 && s.all_done()) break;
+    if (((e - begin) & 15) == 15 && s.all_done()) break;
   }
 }
 
-using BlockFunction = void (*)(const TileGaussians&, const PixelBlock&, BlockState&);
+using BlockFunction = void (*)(const TileGaussians&, int, const PixelBlock&, BlockState&);
 
 BlockFunction pick_block_function(bool color, bool instance, bool labels) {
   static constexpr BlockFunction table[8] = {
@@ -202,12 +203,12 @@ void rasterize_forward(const RenderSettings& settings, RasterState& st, RenderOu
     for (size_t t = range.begin(); t < range.end(); ++t) {
       const int tile_x0 = int(t % st.bins.tiles_x) * kTileSize;
       const int tile_y0 = int(t / st.bins.tiles_x) * kTileSize;
-      tg.gather(st, st.bins.tile_start[t], st.bins.tile_start[t + 1]);
+      tg.gather(st, st.bins.tile_start[t], st.bins.tile_start[t + 1], tile_x0, tile_y0);
       for (int b = 0; b < kBlocksPerTile; ++b) {
         const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
         if (block.x0 >= W || block.y0 >= H) continue;
         s.reset(block, W, H, planes);
-        block_fn(tg, block, s);
+        block_fn(tg, b, block, s);
         store_block(settings, block, s, st, out);
       }
     }

@@ -1,43 +1,52 @@
 #pragma once
 // A tile's Gaussians copied into one contiguous array, front to back: the CPU
-// counterpart of a CUDA block loading its Gaussians into shared memory.
+// counterpart of a CUDA block loading its Gaussians into shared memory. With
+// them, which of the tile's 4x4 pixel blocks each Gaussian reaches, found once
+// per tile with the blocks as vector lanes, so that the forward and backward
+// loops visit only the (Gaussian, block) pairs that matter, without tests.
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <vector>
 
+#include "splat/render/pixel_block.h"
 #include "splat/render/rasterize.h"
 
 namespace splat {
 
+static_assert(kBlocksPerTile == 16, "block masks are 16 bits");
+
+// Pixel-centre rectangle of each block of a tile at the origin, as lanes.
+struct TileBlockBounds {
+  alignas(64) float x0[kBlocksPerTile];
+  alignas(64) float y0[kBlocksPerTile];
+  constexpr TileBlockBounds() : x0(), y0() {
+    for (int b = 0; b < kBlocksPerTile; ++b) {
+      const PixelBlock block = PixelBlock::in_tile(0, 0, b);
+      x0[b] = block.cx0(), y0[b] = block.cy0();
+    }
+  }
+};
+inline constexpr TileBlockBounds kTileBlockBounds{};
+
 struct TileGaussians {
   std::vector<SplatRecord> records;
+  // Bit b of block_mask[k]: Gaussian k reaches (alpha >= 1/255) a pixel
+  // centre of block b.
+  std::vector<uint16_t> block_mask;
+  // The Gaussians reaching block b, front to back:
+  // block_entries[block_start[b] .. block_start[b + 1]).
+  std::vector<uint32_t> block_entries;
+  std::array<uint32_t, kBlocksPerTile + 1> block_start{};
 
   size_t size() const { return records.size(); }
   const SplatRecord& operator[](size_t k) const { return records[k]; }
 
-  // Whether Gaussian k can reach (alpha >= 1/255) a pixel centre in
-  // [x0, x1] x [y0, y1]: its bounding box first, then the exact test of its
-  // ellipse against the rectangle, which culls elongated Gaussians that only
-  // pass their box.
-  bool reaches(size_t k, float x0, float x1, float y0, float y1) const {
-    const SplatRecord& g = records[k];
-    if (g.mx + g.reach_x < x0 || g.mx - g.reach_x > x1 || g.my + g.reach_y < y0 ||
-        g.my - g.reach_y > y1)
-      return false;
-    // Offsets d = pixel - mean over the rectangle; q(d) = A dx^2 + 2 B dx dy + C dy^2.
-    const float ax = x0 - g.mx, bx = x1 - g.mx, ay = y0 - g.my, by = y1 - g.my;
-    if (ax <= 0 && bx >= 0 && ay <= 0 && by >= 0) return true;  // the mean is inside
-    // Otherwise the minimum of the convex q lies on an edge.
-    auto q = [&](float dx, float dy) { return g.A * dx * dx + 2 * g.B * dx * dy + g.C * dy * dy; };
-    auto clamp = [](float v, float lo, float hi) { return v < lo ? lo : (v > hi ? hi : v); };
-    float best = 3.4e38f;
-    for (float dx : {ax, bx}) best = std::min(best, q(dx, clamp(-g.B * dx / g.C, ay, by)));
-    for (float dy : {ay, by}) best = std::min(best, q(clamp(-g.B * dy / g.A, ax, bx), dy));
-    return best <= g.reach_level;
-  }
-
-  void gather(const RasterState& s, uint32_t slot_begin, uint32_t slot_end) {
+  // Copies the records of slots [slot_begin, slot_end) of the tile whose
+  // top-left pixel is (tile_x0, tile_y0), and finds the blocks each reaches.
+  void gather(const RasterState& s, uint32_t slot_begin, uint32_t slot_end, int tile_x0,
+              int tile_y0) {
     const size_t n = slot_end - slot_begin;
     const uint32_t* gaussian = &s.bins.slot_gaussian[slot_begin];
     records.resize(n);
@@ -49,6 +58,60 @@ struct TileGaussians {
       if (k + kAhead < n) __builtin_prefetch(&s.records[gaussian[k + kAhead]]);
       records[k] = s.records[gaussian[k]];
     }
+    find_blocks(tile_x0, tile_y0);
+  }
+
+ private:
+  static constexpr float kSpan = float(kBlockSize - 1);  // cx1 - cx0
+
+  // Whether Gaussian g reaches a pixel centre of each block: its bounding box
+  // first, then the exact test of its ellipse against the block's rectangle,
+  // which culls elongated Gaussians that only pass their box. q(d) =
+  // A dx^2 + 2 B dx dy + C dy^2 over offsets d = pixel - mean; if the mean is
+  // outside the rectangle, the minimum of the convex q lies on an edge.
+  static uint16_t blocks_reached(const SplatRecord& g, float tile_x0, float tile_y0) {
+    const float inv_A = 1.f / g.A, inv_C = 1.f / g.C;
+    alignas(64) float hit[kBlocksPerTile];
+#pragma GCC ivdep
+    for (int b = 0; b < kBlocksPerTile; ++b) {
+      const float ax = tile_x0 + kTileBlockBounds.x0[b] - g.mx, bx = ax + kSpan;
+      const float ay = tile_y0 + kTileBlockBounds.y0[b] - g.my, by = ay + kSpan;
+      const float in_box = (bx >= -g.reach_x ? 1.f : 0.f) * (ax <= g.reach_x ? 1.f : 0.f) *
+                           (by >= -g.reach_y ? 1.f : 0.f) * (ay <= g.reach_y ? 1.f : 0.f);
+      const float mean_inside = (ax <= 0.f ? 1.f : 0.f) * (bx >= 0.f ? 1.f : 0.f) *
+                                (ay <= 0.f ? 1.f : 0.f) * (by >= 0.f ? 1.f : 0.f);
+      auto q = [&](float dx, float dy) {
+        return g.A * dx * dx + 2 * g.B * dx * dy + g.C * dy * dy;
+      };
+      auto clamp = [](float v, float lo, float hi) { return std::min(std::max(v, lo), hi); };
+      float best = q(ax, clamp(-g.B * ax * inv_C, ay, by));
+      best = std::min(best, q(bx, clamp(-g.B * bx * inv_C, ay, by)));
+      best = std::min(best, q(clamp(-g.B * ay * inv_A, ax, bx), ay));
+      best = std::min(best, q(clamp(-g.B * by * inv_A, ax, bx), by));
+      const float near = std::max(mean_inside, best <= g.reach_level ? 1.f : 0.f);
+      hit[b] = in_box * near;
+    }
+    uint16_t mask = 0;
+    for (int b = 0; b < kBlocksPerTile; ++b) mask |= uint16_t(hit[b] > 0.f ? 1u << b : 0u);
+    return mask;
+  }
+
+  void find_blocks(int tile_x0, int tile_y0) {
+    const size_t n = records.size();
+    block_mask.resize(n);
+    std::array<uint32_t, kBlocksPerTile> count{};
+    for (size_t k = 0; k < n; ++k) {
+      const uint16_t mask = blocks_reached(records[k], float(tile_x0), float(tile_y0));
+      block_mask[k] = mask;
+      for (unsigned m = mask; m; m &= m - 1) ++count[__builtin_ctz(m)];
+    }
+    block_start[0] = 0;
+    for (int b = 0; b < kBlocksPerTile; ++b) block_start[b + 1] = block_start[b] + count[b];
+    block_entries.resize(block_start[kBlocksPerTile]);
+    std::array<uint32_t, kBlocksPerTile> next;
+    std::copy_n(block_start.begin(), kBlocksPerTile, next.begin());
+    for (size_t k = 0; k < n; ++k)
+      for (unsigned m = block_mask[k]; m; m &= m - 1) block_entries[next[__builtin_ctz(m)]++] = k;
   }
 };
 
