@@ -51,6 +51,7 @@ struct RasterState {
   std::vector<int32_t> map_of_label;       // label -> instance map plane, -1 if none
   std::vector<int32_t> labels;             // per Gaussian (copied from the model, 0 if none)
   std::vector<SplatRecord> records;        // per Gaussian, filled for visible ones
+  std::vector<uint16_t> slot_blocks;       // per slot: the tile's 4x4 blocks it reaches, a bit each
   std::vector<float> entry_grads;          // backward scratch: gradient per (Gaussian, tile) entry
 };
 

@@ -195,6 +195,7 @@ void rasterize_forward(const RenderSettings& settings, RasterState& st, RenderOu
   st.n_contrib.resize(pixels);
   const BlockFunction block_fn = pick_block_function(settings.color, planes > 0, labels);
   pack_records(settings.color, st);
+  st.slot_blocks.resize(st.bins.num_entries());
 
   const size_t tiles = size_t(st.bins.tiles_x) * st.bins.tiles_y;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const auto& range) {
@@ -203,7 +204,9 @@ void rasterize_forward(const RenderSettings& settings, RasterState& st, RenderOu
     for (size_t t = range.begin(); t < range.end(); ++t) {
       const int tile_x0 = int(t % st.bins.tiles_x) * kTileSize;
       const int tile_y0 = int(t / st.bins.tiles_x) * kTileSize;
-      tg.gather(st, st.bins.tile_start[t], st.bins.tile_start[t + 1], tile_x0, tile_y0);
+      const uint32_t lo = st.bins.tile_start[t], hi = st.bins.tile_start[t + 1];
+      tg.gather(st, lo, hi);
+      tg.find_blocks(tile_x0, tile_y0, st.slot_blocks.data() + lo);
       for (int b = 0; b < kBlocksPerTile; ++b) {
         const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
         if (block.x0 >= W || block.y0 >= H) continue;

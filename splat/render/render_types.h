@@ -36,7 +36,6 @@ struct RenderSettings {
   bool instance_label_map = false;
   // Ablation baseline: label of the Gaussian with the largest alpha_i T_i.
   bool baseline_label_map = false;
-
 };
 
 struct RenderOutput {

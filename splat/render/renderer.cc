@@ -30,7 +30,7 @@ struct CpuRenderState : RenderState {
            bytes_of(b.tile_start) + bytes_of(b.slot_gaussian) + bytes_of(b.slot_entry) +
            bytes_of(b.gaussian_entries) + bytes_of(raster.final_transmittance) +
            bytes_of(raster.n_contrib) + bytes_of(raster.map_of_label) + bytes_of(raster.labels) +
-           bytes_of(raster.records);
+           bytes_of(raster.records) + bytes_of(raster.slot_blocks);
   }
   size_t backward_bytes() const override {
     const ProjectedGradients& g = projected_grads;

@@ -33,8 +33,8 @@ inline constexpr TileBlockBounds kTileBlockBounds{};
 struct TileGaussians {
   std::vector<SplatRecord> records;
   // Bit b of block_mask[k]: Gaussian k reaches (alpha >= 1/255) a pixel
-  // centre of block b.
-  std::vector<uint16_t> block_mask;
+  // centre of block b. Points into RasterState::slot_blocks.
+  const uint16_t* block_mask = nullptr;
   // The Gaussians reaching block b, front to back:
   // block_entries[block_start[b] .. block_start[b + 1]).
   std::vector<uint32_t> block_entries;
@@ -43,10 +43,8 @@ struct TileGaussians {
   size_t size() const { return records.size(); }
   const SplatRecord& operator[](size_t k) const { return records[k]; }
 
-  // Copies the records of slots [slot_begin, slot_end) of the tile whose
-  // top-left pixel is (tile_x0, tile_y0), and finds the blocks each reaches.
-  void gather(const RasterState& s, uint32_t slot_begin, uint32_t slot_end, int tile_x0,
-              int tile_y0) {
+  // Copies the records of slots [slot_begin, slot_end), front to back.
+  void gather(const RasterState& s, uint32_t slot_begin, uint32_t slot_end) {
     const size_t n = slot_end - slot_begin;
     const uint32_t* gaussian = &s.bins.slot_gaussian[slot_begin];
     records.resize(n);
@@ -58,8 +56,32 @@ struct TileGaussians {
       if (k + kAhead < n) __builtin_prefetch(&s.records[gaussian[k + kAhead]]);
       records[k] = s.records[gaussian[k]];
     }
-    find_blocks(tile_x0, tile_y0);
   }
+
+  // The forward pass: finds the blocks of the tile whose top-left pixel is
+  // (tile_x0, tile_y0) that each gathered Gaussian reaches, writes them to
+  // masks (one per record, kept for the backward pass), and lists each
+  // block's Gaussians.
+  void find_blocks(int tile_x0, int tile_y0, uint16_t* masks) {
+    const size_t n = records.size();
+    std::array<uint32_t, kBlocksPerTile> count{};
+    for (size_t k = 0; k < n; ++k) {
+      const uint16_t mask = blocks_reached(records[k], float(tile_x0), float(tile_y0));
+      masks[k] = mask;
+      for (unsigned m = mask; m; m &= m - 1) ++count[__builtin_ctz(m)];
+    }
+    block_mask = masks;
+    block_start[0] = 0;
+    for (int b = 0; b < kBlocksPerTile; ++b) block_start[b + 1] = block_start[b] + count[b];
+    block_entries.resize(block_start[kBlocksPerTile]);
+    std::array<uint32_t, kBlocksPerTile> next;
+    std::copy_n(block_start.begin(), kBlocksPerTile, next.begin());
+    for (size_t k = 0; k < n; ++k)
+      for (unsigned m = masks[k]; m; m &= m - 1) block_entries[next[__builtin_ctz(m)]++] = k;
+  }
+
+  // The backward pass: the masks the forward pass found.
+  void use_blocks(const uint16_t* masks) { block_mask = masks; }
 
  private:
   static constexpr float kSpan = float(kBlockSize - 1);  // cx1 - cx0
@@ -94,24 +116,6 @@ struct TileGaussians {
     uint16_t mask = 0;
     for (int b = 0; b < kBlocksPerTile; ++b) mask |= uint16_t(hit[b] > 0.f ? 1u << b : 0u);
     return mask;
-  }
-
-  void find_blocks(int tile_x0, int tile_y0) {
-    const size_t n = records.size();
-    block_mask.resize(n);
-    std::array<uint32_t, kBlocksPerTile> count{};
-    for (size_t k = 0; k < n; ++k) {
-      const uint16_t mask = blocks_reached(records[k], float(tile_x0), float(tile_y0));
-      block_mask[k] = mask;
-      for (unsigned m = mask; m; m &= m - 1) ++count[__builtin_ctz(m)];
-    }
-    block_start[0] = 0;
-    for (int b = 0; b < kBlocksPerTile; ++b) block_start[b + 1] = block_start[b] + count[b];
-    block_entries.resize(block_start[kBlocksPerTile]);
-    std::array<uint32_t, kBlocksPerTile> next;
-    std::copy_n(block_start.begin(), kBlocksPerTile, next.begin());
-    for (size_t k = 0; k < n; ++k)
-      for (unsigned m = block_mask[k]; m; m &= m - 1) block_entries[next[__builtin_ctz(m)]++] = k;
   }
 };
 
