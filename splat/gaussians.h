@@ -43,4 +43,17 @@ struct GaussianModel {
   bool operator==(const GaussianModel&) const = default;
 };
 
+// Puts Gaussian order[k] at position k, in every array (order is a
+// permutation of 0..size-1).
+void reorder_gaussians(GaussianModel& m, const std::vector<uint32_t>& order);
+
+// A permutation that puts Gaussians close in space close in memory (Morton
+// order of the centres, over the box holding all but the farthest 0.1% on
+// each axis). Per-Gaussian passes over many views, as voting makes, then read
+// screen-space buffers and tile lists with far fewer cache misses.
+std::vector<uint32_t> spatial_order(const GaussianModel& m);
+
+// The inverse permutation: inverse[order[k]] = k.
+std::vector<uint32_t> inverse_order(const std::vector<uint32_t>& order);
+
 }  // namespace splat

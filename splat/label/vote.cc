@@ -19,7 +19,8 @@ void VoteOptions::Check() const {
 }
 
 DepthMap render_depth_map(const Renderer& renderer, const GaussianModel& model,
-                          const Camera& camera, const VoteOptions& options) {
+                          const Camera& camera, const VoteOptions& options,
+                          std::unique_ptr<RenderState>* state) {
   Camera cam = camera;
   if (options.depth_max_width > 0 && camera.width > options.depth_max_width) {
     const int h = std::max(
@@ -29,7 +30,7 @@ DepthMap render_depth_map(const Renderer& renderer, const GaussianModel& model,
   RenderSettings settings;
   settings.color = false;  // depth and alpha only: no SH work
   settings.sh_degree = 0;
-  const RenderOutput out = renderer.render(model, cam, settings);
+  const RenderOutput out = renderer.render(model, cam, settings, state);
   DepthMap map{cam.width, cam.height, std::vector<float>(out.depth.size())};
   for (size_t p = 0; p < map.depth.size(); ++p)
     map.depth[p] = out.alpha[p] >= options.min_surface_alpha

@@ -55,8 +55,11 @@ struct DepthMap {
   int width = 0, height = 0;
   std::vector<float> depth;  // W * H
 };
+// A state from an earlier call, when given, is reused (its buffers hold every
+// Gaussian: reusing them saves their allocation in every view).
 DepthMap render_depth_map(const Renderer& renderer, const GaussianModel& model,
-                          const Camera& camera, const VoteOptions& options);
+                          const Camera& camera, const VoteOptions& options,
+                          std::unique_ptr<RenderState>* state = nullptr);
 
 // Where a Gaussian's centre falls in a view, if it is visible there.
 class CentreVisibility {

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <nlohmann/json.hpp>
 
 #include "splat/atomic_file.h"
@@ -156,6 +157,28 @@ json summary_json(const GaussianModel& model, const LabelVotes& votes,
           {"objects", objects}};
 }
 
+// Render states for the depth maps, handed from view to view: a state holds
+// buffers for every Gaussian, and allocating them afresh in every view costs
+// as much as a good part of the render.
+class RenderStatePool {
+ public:
+  std::unique_ptr<RenderState> take() {
+    std::lock_guard lock(mutex_);
+    if (free_.empty()) return nullptr;
+    std::unique_ptr<RenderState> state = std::move(free_.back());
+    free_.pop_back();
+    return state;
+  }
+  void give(std::unique_ptr<RenderState> state) {
+    std::lock_guard lock(mutex_);
+    free_.push_back(std::move(state));
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<RenderState>> free_;
+};
+
 }  // namespace
 
 VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& work, const VoteRunOptions& o) {
@@ -173,10 +196,17 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& work, const 
   spdlog::info("{} Gaussians (iteration {}); voting over {} training views with {}/", model.size(),
                stage_one.iteration, used.size(), o.id_maps);
 
+  // Voting passes over every Gaussian in every view: in spatial order, its
+  // reads of the depth and ID maps and the depth render's tile lists hit the
+  // cache far more often. The model's own order is restored before writing.
+  const std::vector<uint32_t> order = spatial_order(model);
+  reorder_gaussians(model, order);
+
   const CpuRenderer renderer;
   const bool cull = o.vote.visibility == VoteVisibility::kDepth;
   LabelVotes votes(model.size());
   std::map<int, size_t> views_per_id;
+  RenderStatePool states;
   size_t next = 0;
   // Reading a map and rendering its depth run for several views at once;
   // votes are added one view at a time, in order.
@@ -196,7 +226,11 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& work, const 
                    p->ids = read_id_map(file);
                    check_id_map_aspect(file, p->ids, view.camera.width, view.camera.height);
                    p->camera = view.camera.resized(p->ids.width, p->ids.height);
-                   if (cull) p->depth = render_depth_map(renderer, model, p->camera, o.vote);
+                   if (cull) {
+                     std::unique_ptr<RenderState> state = states.take();
+                     p->depth = render_depth_map(renderer, model, p->camera, o.vote, &state);
+                     states.give(std::move(state));
+                   }
                    p->ids_present = ids_in_map(p->ids);
                    return p;
                  }) &
@@ -210,9 +244,10 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& work, const 
   model.has_labels = true;
 
   const fs::path out = work / "vote";
-  write_gaussian_ply(out / "point_cloud.ply", model);
   json summary =
       summary_json(model, votes, views_per_id, read_object_names(folder / "objects.json"), result);
+  reorder_gaussians(model, inverse_order(order));
+  write_gaussian_ply(out / "point_cloud.ply", model);
   summary["model"] = model_file.string();
   summary["iteration"] = stage_one.iteration;
   summary["id_maps"] = folder.string();
