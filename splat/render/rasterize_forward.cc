@@ -139,10 +139,18 @@ void store_block(const RenderSettings& settings, const PixelBlock& block, const 
     out.contributors[pix] = uint32_t(s.blended[l]);
     st.final_transmittance[pix] = s.T[l];
     st.n_contrib[pix] = uint32_t(s.last[l]);
-    for (size_t m = 0; m < planes; ++m)
-      out.instance_maps[m * pixels + pix] = s.planes[m * kLanes + l];
     if (settings.instance_label_map) out.instance_label[pix] = s.instance_label[l];
     if (settings.baseline_label_map) out.baseline_label[pix] = s.baseline_label[l];
+  }
+  // Plane by plane, a block row (4 pixels) at a time.
+  for (size_t m = 0; m < planes; ++m) {
+    float* plane = &out.instance_maps[m * pixels];
+    for (int row = 0; row < kBlockSize; ++row) {
+      const int y = block.y0 + row;
+      if (y >= H) break;
+      const int n = std::min(kBlockSize, W - block.x0);
+      std::copy_n(&s.planes[m * kLanes + row * kBlockSize], n, plane + size_t(y) * W + block.x0);
+    }
   }
 }
 
