@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "splat/render/fast_exp.h"
 #include "splat/render/sh.h"
 
 namespace splat {
@@ -112,22 +113,91 @@ void evaluate_color(const GaussianModel& m, size_t i, const Vec3& dir, int degre
   }
 }
 
-// Projects Gaussian i; returns false when it is culled.
-bool project_one(const GaussianModel& m, const View& v, size_t i, ProjectedGaussians& p) {
-  const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
-  const Vec3 pv = v.R * mean + v.t;
-  if (!(pv.z() > kNearPlane)) return false;
+// The geometry of up to kBatch consecutive Gaussians, computed with the
+// Gaussians as vector lanes (the per-Gaussian Eigen code of the backward pass
+// is scalar; this is the same algebra written out, so that GCC vectorises
+// it): camera-space centre, 2D mean, and the low-passed 2D covariance.
+constexpr int kBatch = 16;
+struct GeometryBatch {
+  alignas(64) float u[kBatch], w[kBatch], z[kBatch];
+  alignas(64) float a[kBatch], b[kBatch], c[kBatch];  // 2D covariance + low-pass
+};
+
+// means, rotations and log_scales point at the batch's first Gaussian; the
+// batch holds kBatch Gaussians.
+void project_geometry(const float* means, const float* rotations, const float* log_scales,
+                      const View& v, GeometryBatch& out) {
+  const Mat3& W = v.R;
+  const float W00 = W(0, 0), W01 = W(0, 1), W02 = W(0, 2), W10 = W(1, 0), W11 = W(1, 1),
+              W12 = W(1, 2), W20 = W(2, 0), W21 = W(2, 1), W22 = W(2, 2);
+  const float t0 = v.t.x(), t1 = v.t.y(), t2 = v.t.z();
+#pragma GCC ivdep
+  for (int i = 0; i < kBatch; ++i) {
+    const float mx = means[3 * i], my = means[3 * i + 1], mz = means[3 * i + 2];
+    const float x = W00 * mx + W01 * my + W02 * mz + t0;
+    const float y = W10 * mx + W11 * my + W12 * mz + t1;
+    const float z = W20 * mx + W21 * my + W22 * mz + t2;
+    // Rotation of the normalised quaternion, scaled columns M = R diag(s).
+    const float qw0 = rotations[4 * i], qx0 = rotations[4 * i + 1], qy0 = rotations[4 * i + 2],
+                qz0 = rotations[4 * i + 3];
+    const float inv_qn = 1.f / std::sqrt(qw0 * qw0 + qx0 * qx0 + qy0 * qy0 + qz0 * qz0);
+    const float qw = qw0 * inv_qn, qx = qx0 * inv_qn, qy = qy0 * inv_qn, qz = qz0 * inv_qn;
+    const float s0 = fast_exp(std::min(log_scales[3 * i], 80.f));
+    const float s1 = fast_exp(std::min(log_scales[3 * i + 1], 80.f));
+    const float s2 = fast_exp(std::min(log_scales[3 * i + 2], 80.f));
+    const float M00 = (1 - 2 * (qy * qy + qz * qz)) * s0, M01 = 2 * (qx * qy - qw * qz) * s1,
+                M02 = 2 * (qx * qz + qw * qy) * s2;
+    const float M10 = 2 * (qx * qy + qw * qz) * s0, M11 = (1 - 2 * (qx * qx + qz * qz)) * s1,
+                M12 = 2 * (qy * qz - qw * qx) * s2;
+    const float M20 = 2 * (qx * qz - qw * qy) * s0, M21 = 2 * (qy * qz + qw * qx) * s1,
+                M22 = (1 - 2 * (qx * qx + qy * qy)) * s2;
+    // Sigma = M M^T (symmetric).
+    const float S00 = M00 * M00 + M01 * M01 + M02 * M02;
+    const float S01 = M00 * M10 + M01 * M11 + M02 * M12;
+    const float S02 = M00 * M20 + M01 * M21 + M02 * M22;
+    const float S11 = M10 * M10 + M11 * M11 + M12 * M12;
+    const float S12 = M10 * M20 + M11 * M21 + M12 * M22;
+    const float S22 = M20 * M20 + M21 * M21 + M22 * M22;
+    // The projection Jacobian with the reference's clamp, then T = J W.
+    const float inv_z = 1.f / z;
+    const float uc = std::clamp(x * inv_z, -v.lim_x, v.lim_x);
+    const float wc = std::clamp(y * inv_z, -v.lim_y, v.lim_y);
+    const float J00 = v.fx * inv_z, J02 = -v.fx * uc * inv_z;
+    const float J11 = v.fy * inv_z, J12 = -v.fy * wc * inv_z;
+    const float T00 = J00 * W00 + J02 * W20, T01 = J00 * W01 + J02 * W21,
+                T02 = J00 * W02 + J02 * W22;
+    const float T10 = J11 * W10 + J12 * W20, T11 = J11 * W11 + J12 * W21,
+                T12 = J11 * W12 + J12 * W22;
+    // cov = T Sigma T^T.
+    const float P0 = T00 * S00 + T01 * S01 + T02 * S02;
+    const float P1 = T00 * S01 + T01 * S11 + T02 * S12;
+    const float P2 = T00 * S02 + T01 * S12 + T02 * S22;
+    const float Q0 = T10 * S00 + T11 * S01 + T12 * S02;
+    const float Q1 = T10 * S01 + T11 * S11 + T12 * S12;
+    const float Q2 = T10 * S02 + T11 * S12 + T12 * S22;
+    out.a[i] = P0 * T00 + P1 * T01 + P2 * T02 + kLowPass;
+    out.b[i] = P0 * T10 + P1 * T11 + P2 * T12;
+    out.c[i] = Q0 * T10 + Q1 * T11 + Q2 * T12 + kLowPass;
+    out.u[i] = v.fx * x * inv_z + v.cx;
+    out.w[i] = v.fy * y * inv_z + v.cy;
+    out.z[i] = z;
+  }
+}
+
+// Finishes Gaussian i from lane l of its batch: culling, radius, tile
+// rectangle, opacities. Returns false when it is culled.
+bool project_one(const GaussianModel& m, const GeometryBatch& g, int l, size_t i,
+                 ProjectedGaussians& p) {
+  if (!(g.z[l] > kNearPlane)) return false;
   const float sigma = sigmoid(m.opacity_logits[i]);
   if (!(sigma >= kMinAlpha)) return false;  // alpha never reaches 1/255 anywhere
-  const Mat23 T = projection_jacobian(v, pv) * v.R;
-  const Eigen::Matrix2f cov = T * world_covariance(m, i) * T.transpose();
-  const float a = cov(0, 0) + kLowPass, b = cov(0, 1), c = cov(1, 1) + kLowPass;
+  const float a = g.a[l], b = g.b[l], c = g.c[l];
   const float det = a * c - b * b;
   if (!(det > 0)) return false;
   const float mid = 0.5f * (a + c);
   const float lambda = mid + std::sqrt(std::max(0.1f, mid * mid - det));
   const int radius = int(std::ceil(3.f * std::sqrt(lambda)));
-  const float u = v.fx * pv.x() / pv.z() + v.cx, w = v.fy * pv.y() / pv.z() + v.cy;
+  const float u = g.u[l], w = g.w[l];
 
   // The reference's tile rectangle, in its pixel coordinates (centres at integers).
   auto rect = [](float center, int r, int tiles) {
@@ -153,7 +223,7 @@ bool project_one(const GaussianModel& m, const View& v, size_t i, ProjectedGauss
   p.conic[3 * i] = c / det;
   p.conic[3 * i + 1] = -b / det;
   p.conic[3 * i + 2] = a / det;
-  p.depth[i] = pv.z();
+  p.depth[i] = g.z[l];
   p.radius[i] = radius;
   p.reach[2 * i] = ext_x;
   p.reach[2 * i + 1] = ext_y;
@@ -182,13 +252,32 @@ void project_gaussians(const GaussianModel& m, const Camera& cam, const RenderSe
   p.color.assign(s.color ? 3 * n : 0, 0.f);
   p.color_clamped.assign(s.color ? 3 * n : 0, 0);
   const View v(cam);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& range) {
-    for (size_t i = range.begin(); i < range.end(); ++i) {
-      if (!project_one(m, v, i, p)) continue;
-      if (s.color) {
-        const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
-        evaluate_color(m, i, (mean - v.center).normalized(), s.sh_degree, &p.color[3 * i],
-                       &p.color_clamped[3 * i]);
+  const size_t batches = (n + kBatch - 1) / kBatch;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, batches, 256), [&](const auto& range) {
+    GeometryBatch g;
+    for (size_t batch = range.begin(); batch < range.end(); ++batch) {
+      const size_t first = batch * kBatch, count = std::min<size_t>(kBatch, n - first);
+      if (count == kBatch) {
+        project_geometry(&m.means[3 * first], &m.rotations[4 * first], &m.log_scales[3 * first], v,
+                         g);
+      } else {  // the last, partial batch: padded with copies of its last Gaussian
+        float means[3 * kBatch], rotations[4 * kBatch], log_scales[3 * kBatch];
+        for (int l = 0; l < kBatch; ++l) {
+          const size_t i = first + std::min<size_t>(l, count - 1);
+          std::copy_n(&m.means[3 * i], 3, &means[3 * l]);
+          std::copy_n(&m.rotations[4 * i], 4, &rotations[4 * l]);
+          std::copy_n(&m.log_scales[3 * i], 3, &log_scales[3 * l]);
+        }
+        project_geometry(means, rotations, log_scales, v, g);
+      }
+      for (int l = 0; l < int(count); ++l) {
+        const size_t i = first + size_t(l);
+        if (!project_one(m, g, l, i, p)) continue;
+        if (s.color) {
+          const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
+          evaluate_color(m, i, (mean - v.center).normalized(), s.sh_degree, &p.color[3 * i],
+                         &p.color_clamped[3 * i]);
+        }
       }
     }
   });
