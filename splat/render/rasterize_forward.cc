@@ -213,8 +213,7 @@ void rasterize_forward(const RenderSettings& settings, RasterState& st, RenderOu
       const int tile_x0 = int(t % st.bins.tiles_x) * kTileSize;
       const int tile_y0 = int(t / st.bins.tiles_x) * kTileSize;
       const uint32_t lo = st.bins.tile_start[t], hi = st.bins.tile_start[t + 1];
-      tg.gather(st, lo, hi);
-      tg.find_blocks(tile_x0, tile_y0, st.slot_blocks.data() + lo);
+      tg.gather_with_blocks(st, lo, hi, tile_x0, tile_y0, st.slot_blocks.data() + lo);
       for (int b = 0; b < kBlocksPerTile; ++b) {
         const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
         if (block.x0 >= W || block.y0 >= H) continue;

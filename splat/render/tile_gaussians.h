@@ -58,18 +58,36 @@ struct TileGaussians {
     }
   }
 
-  // The forward pass: finds the blocks of the tile whose top-left pixel is
-  // (tile_x0, tile_y0) that each gathered Gaussian reaches, writes them to
-  // masks (one per record, kept for the backward pass), and lists each
-  // block's Gaussians.
-  void find_blocks(int tile_x0, int tile_y0, uint16_t* masks) {
+  // The forward pass: gather, and the blocks of the tile whose top-left pixel
+  // is (tile_x0, tile_y0) that each Gaussian reaches, found from the record
+  // as it is loaded (re-reading the fresh copy would stall on it), written to
+  // masks (one per record, kept for the backward pass), and each block's list.
+  void gather_with_blocks(const RasterState& s, uint32_t slot_begin, uint32_t slot_end, int tile_x0,
+                          int tile_y0, uint16_t* masks) {
+    const size_t n = slot_end - slot_begin;
+    const uint32_t* gaussian = &s.bins.slot_gaussian[slot_begin];
+    records.resize(n);
+    constexpr size_t kAhead = 16;
+    for (size_t k = 0; k < std::min(n, kAhead); ++k) __builtin_prefetch(&s.records[gaussian[k]]);
+    for (size_t k = 0; k < n; ++k) {
+      if (k + kAhead < n) __builtin_prefetch(&s.records[gaussian[k + kAhead]]);
+      const SplatRecord& record = s.records[gaussian[k]];
+      masks[k] = blocks_reached(record, float(tile_x0), float(tile_y0));
+      records[k] = record;
+    }
+    list_blocks(masks);
+  }
+
+  // The backward pass: the masks the forward pass found.
+  void use_blocks(const uint16_t* masks) { block_mask = masks; }
+
+ private:
+  // Lists each block's Gaussians, front to back, from the masks.
+  void list_blocks(const uint16_t* masks) {
     const size_t n = records.size();
     std::array<uint32_t, kBlocksPerTile> count{};
-    for (size_t k = 0; k < n; ++k) {
-      const uint16_t mask = blocks_reached(records[k], float(tile_x0), float(tile_y0));
-      masks[k] = mask;
-      for (unsigned m = mask; m; m &= m - 1) ++count[__builtin_ctz(m)];
-    }
+    for (size_t k = 0; k < n; ++k)
+      for (unsigned m = masks[k]; m; m &= m - 1) ++count[__builtin_ctz(m)];
     block_mask = masks;
     block_start[0] = 0;
     for (int b = 0; b < kBlocksPerTile; ++b) block_start[b + 1] = block_start[b] + count[b];
@@ -80,10 +98,6 @@ struct TileGaussians {
       for (unsigned m = masks[k]; m; m &= m - 1) block_entries[next[__builtin_ctz(m)]++] = k;
   }
 
-  // The backward pass: the masks the forward pass found.
-  void use_blocks(const uint16_t* masks) { block_mask = masks; }
-
- private:
   static constexpr float kSpan = float(kBlockSize - 1);  // cx1 - cx0
 
   // Whether Gaussian g reaches a pixel centre of each block: its bounding box
