@@ -58,30 +58,33 @@ CentreVisibility::CentreVisibility(const Camera& camera, const DepthMap* depth,
   depth_sy_ = float(depth->height) / camera.height;
 }
 
-// Most Gaussians see one to three IDs over all views: three counters inline,
-// and a list on the side for the few that see more.
+// Most Gaussians see one to a few IDs over all views: six counters inline,
+// and a list on the side for the few that see more. IDs are 16-bit (the ID
+// maps'); a count stops at 65,535 views.
 struct LabelVotes::Storage {
-  static constexpr int kInline = 3;
+  static constexpr int kInline = 6;
   struct Slot {
-    uint32_t id = 0, count = 0;
+    uint16_t id = 0, count = 0;
+    void add() { count += count < 0xFFFF ? 1 : 0; }
   };
   struct Counters {
     std::array<Slot, kInline> slots{};
     uint32_t overflow = 0;  // 1 + index into `more`, 0 if none
   };
+  static_assert(sizeof(Counters) == 28, "as small as three 32-bit counters were");
   std::vector<Counters> counters;
   tbb::concurrent_vector<std::vector<Slot>> more;
 
-  void add(size_t j, uint32_t id) {
+  void add(size_t j, uint16_t id) {
     Counters& c = counters[j];
     for (Slot& s : c.slots) {
-      if (s.count && s.id == id) return void(++s.count);
+      if (s.count && s.id == id) return s.add();
       if (!s.count) return void(s = {id, 1});
     }
     if (!c.overflow) c.overflow = uint32_t(more.emplace_back() - more.begin()) + 1;
     std::vector<Slot>& list = more[c.overflow - 1];
     for (Slot& s : list)
-      if (s.id == id) return void(++s.count);
+      if (s.id == id) return s.add();
     list.push_back({id, 1});
   }
 
