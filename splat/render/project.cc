@@ -241,16 +241,19 @@ void project_gaussians(const GaussianModel& m, const Camera& cam, const RenderSe
   const size_t n = m.size();
   p.tiles_x = (cam.width + kTileSize - 1) / kTileSize;
   p.tiles_y = (cam.height + kTileSize - 1) / kTileSize;
-  p.mean2d.assign(2 * n, 0.f);
-  p.conic.assign(3 * n, 0.f);
-  p.depth.assign(n, 0.f);
+  // Only the radius marks a Gaussian visible; every other field is written
+  // for visible Gaussians and read for them alone, so it is not cleared (for
+  // 1M Gaussians that saves 60 MB of memset a view).
   p.radius.assign(n, 0);
-  p.tile_rect.assign(4 * n, 0);
-  p.reach.assign(2 * n, 0.f);
-  p.opacity.assign(n, 0.f);
-  p.instance_opacity.assign(n, 0.f);
-  p.color.assign(s.color ? 3 * n : 0, 0.f);
-  p.color_clamped.assign(s.color ? 3 * n : 0, 0);
+  p.mean2d.resize(2 * n);
+  p.conic.resize(3 * n);
+  p.depth.resize(n);
+  p.tile_rect.resize(4 * n);
+  p.reach.resize(2 * n);
+  p.opacity.resize(n);
+  p.instance_opacity.resize(n);
+  p.color.resize(s.color ? 3 * n : 0);
+  p.color_clamped.resize(s.color ? 3 * n : 0);
   const View v(cam);
   const size_t batches = (n + kBatch - 1) / kBatch;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, batches, 256), [&](const auto& range) {
