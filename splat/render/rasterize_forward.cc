@@ -25,7 +25,12 @@ struct BlockState {
   alignas(64) int32_t instance_label[kLanes];
   alignas(64) float best_weight[kLanes];
   alignas(64) int32_t baseline_label[kLanes];
-  std::vector<float> planes;  // instance maps, plane-major, kLanes each
+  // Instance maps, plane-major, kLanes each. A plane is cleared when a
+  // Gaussian first reaches it in this block: a block sees few objects, and
+  // clearing all of them for every block cost a few per cent of a mask render.
+  std::vector<float> planes;
+  std::vector<uint8_t> touched;         // per plane: cleared and written in this block
+  std::vector<int32_t> touched_planes;  // which, to reset them cheaply
 
   void reset(const PixelBlock& block, int width, int height, size_t num_planes) {
     for (int l = 0; l < kLanes; ++l) {
@@ -36,7 +41,16 @@ struct BlockState {
       best_instance_alpha[l] = best_weight[l] = 0.f;
       instance_label[l] = baseline_label[l] = 0;
     }
-    planes.assign(num_planes * kLanes, 0.f);
+    planes.resize(num_planes * kLanes);
+    touched.resize(num_planes, 0);
+    for (int32_t p : touched_planes) touched[size_t(p)] = 0;
+    touched_planes.clear();
+  }
+  void touch(int32_t p) {
+    if (touched[size_t(p)]) return;
+    touched[size_t(p)] = 1;
+    touched_planes.push_back(p);
+    std::fill_n(&planes[size_t(p) * kLanes], kLanes, 0.f);
   }
   bool all_done() const {
     float d = 1.f;
@@ -105,9 +119,10 @@ void blend_block(const TileGaussians& tg, int b, const PixelBlock& block, BlockS
   for (uint32_t e = begin; e < end; ++e) {
     const size_t k = entries[e];
     // Only Gaussians whose label has a map pay for the instance branch.
-    if (kInstance && tg[k].plane >= 0)
+    if (kInstance && tg[k].plane >= 0) {
+      s.touch(tg[k].plane);
       blend<kColor, kInstance, kLabels>(tg, k, x0, y0, s);
-    else
+    } else
       blend<kColor, false, kLabels>(tg, k, x0, y0, s);
     if (((e - begin) & 15) == 15 && s.all_done()) break;
   }
@@ -145,13 +160,14 @@ void store_block(const RenderSettings& settings, const PixelBlock& block, const 
   // Plane by plane, a block row (4 pixels) at a time.
   for (size_t m = 0; m < planes; ++m) {
     float* plane = &out.instance_maps[m * pixels];
+    const bool touched = s.touched[m];
     for (int row = 0; row < kBlockSize; ++row) {
       const int y = block.y0 + row;
       if (y >= H) break;
       const int n = std::min(kBlockSize, W - block.x0);
       const float* from = &s.planes[m * kLanes + row * kBlockSize];
       float* to = plane + size_t(y) * W + block.x0;
-      for (int x = 0; x < n; ++x) to[x] = from[x];  // at most 4: no memmove call
+      for (int x = 0; x < n; ++x) to[x] = touched ? from[x] : 0.f;  // at most 4: no memmove
     }
   }
 }
