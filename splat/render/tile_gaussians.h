@@ -45,17 +45,7 @@ struct TileGaussians {
 
   // Copies the records of slots [slot_begin, slot_end), front to back.
   void gather(const RasterState& s, uint32_t slot_begin, uint32_t slot_end) {
-    const size_t n = slot_end - slot_begin;
-    const uint32_t* gaussian = &s.bins.slot_gaussian[slot_begin];
-    records.resize(n);
-    // The records are read in depth order, i.e. at random: prefetch ahead so
-    // the loads overlap instead of waiting on memory one by one.
-    constexpr size_t kAhead = 16;
-    for (size_t k = 0; k < std::min(n, kAhead); ++k) __builtin_prefetch(&s.records[gaussian[k]]);
-    for (size_t k = 0; k < n; ++k) {
-      if (k + kAhead < n) __builtin_prefetch(&s.records[gaussian[k + kAhead]]);
-      records[k] = s.records[gaussian[k]];
-    }
+    copy_records(s, slot_begin, slot_end, [](size_t, const SplatRecord&) {});
   }
 
   // The forward pass: gather, and the blocks of the tile whose top-left pixel
@@ -64,6 +54,22 @@ struct TileGaussians {
   // masks (one per record, kept for the backward pass), and each block's list.
   void gather_with_blocks(const RasterState& s, uint32_t slot_begin, uint32_t slot_end, int tile_x0,
                           int tile_y0, uint16_t* masks) {
+    copy_records(s, slot_begin, slot_end, [&](size_t k, const SplatRecord& record) {
+      masks[k] = blocks_reached(record, float(tile_x0), float(tile_y0));
+    });
+    list_blocks(masks);
+  }
+
+  // The backward pass: the masks the forward pass found.
+  void use_blocks(const uint16_t* masks) { block_mask = masks; }
+
+ private:
+  // Copies the records of the slots, calling on_record(k, record) on each as
+  // it is loaded. The records are read in depth order, i.e. at random:
+  // prefetching ahead overlaps the loads instead of waiting on memory one by one.
+  template <typename OnRecord>
+  void copy_records(const RasterState& s, uint32_t slot_begin, uint32_t slot_end,
+                    OnRecord&& on_record) {
     const size_t n = slot_end - slot_begin;
     const uint32_t* gaussian = &s.bins.slot_gaussian[slot_begin];
     records.resize(n);
@@ -72,16 +78,11 @@ struct TileGaussians {
     for (size_t k = 0; k < n; ++k) {
       if (k + kAhead < n) __builtin_prefetch(&s.records[gaussian[k + kAhead]]);
       const SplatRecord& record = s.records[gaussian[k]];
-      masks[k] = blocks_reached(record, float(tile_x0), float(tile_y0));
+      on_record(k, record);
       records[k] = record;
     }
-    list_blocks(masks);
   }
 
-  // The backward pass: the masks the forward pass found.
-  void use_blocks(const uint16_t* masks) { block_mask = masks; }
-
- private:
   // Lists each block's Gaussians, front to back, from the masks.
   void list_blocks(const uint16_t* masks) {
     const size_t n = records.size();
