@@ -24,6 +24,13 @@ inline constexpr int kBlocksPerTile = (kTileSize / kBlockSize) * (kTileSize / kB
 // Floats of gradient the backward pass keeps per (Gaussian, tile) entry.
 inline constexpr int kRasterEntryGradients = 11;
 
+// The backward pass holds one gradient per (Gaussian, tile) entry until it
+// sums each Gaussian's entries. Tiles are taken in bands of whole tile rows
+// holding at most this many entries per Gaussian (or kMinBandEntries), so
+// that buffer stays small when Gaussians cover many tiles.
+inline constexpr size_t kBandEntriesPerGaussian = 1;
+inline constexpr size_t kMinBandEntries = size_t(1) << 16;
+
 // What the rasterizer reads of one Gaussian, packed into one cache line so
 // that gathering a tile's Gaussians costs one load each.
 struct alignas(64) SplatRecord {
@@ -41,6 +48,12 @@ struct alignas(64) SplatRecord {
 };
 static_assert(sizeof(SplatRecord) == 64);
 
+// Where one Gaussian's entries lie in a band's gradient buffer: the entry of
+// tile (tx, ty) is base + ty * width + tx (row by row, like the tiles).
+struct BandEntryIndex {
+  int32_t base, width;
+};
+
 // Everything the backward pass needs from the forward pass.
 struct RasterState {
   int width = 0, height = 0;
@@ -52,7 +65,11 @@ struct RasterState {
   std::vector<int32_t> labels;             // per Gaussian (copied from the model, 0 if none)
   std::vector<SplatRecord> records;        // per Gaussian, filled for visible ones
   std::vector<uint16_t> slot_blocks;       // per slot: the tile's 4x4 blocks it reaches, a bit each
-  std::vector<float> entry_grads;          // backward scratch: gradient per (Gaussian, tile) entry
+  // Backward scratch, for one band of tile rows at a time:
+  std::vector<float> entry_grads;          // gradient per (Gaussian, tile) entry of the band
+  std::vector<uint32_t> band_entries;      // N + 1: entries of Gaussian i are [i] .. [i+1]
+  std::vector<BandEntryIndex> band_index;  // N
+  size_t max_band_entries = 0;             // 0: max(kBandEntriesPerGaussian * N, kMinBandEntries)
 };
 
 // Fills out (colour, alpha, depth, contributors, and what settings ask of

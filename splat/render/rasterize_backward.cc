@@ -185,46 +185,103 @@ void load_tile_state(const RenderSettings& settings, const RasterState& st,
   }
 }
 
-}  // namespace
+// The rows of tiles [row_begin, row_end) whose entries' gradients are held at once.
+struct TileRowBand {
+  int row_begin, row_end;
+};
 
-void rasterize_backward(const RenderSettings& settings, RasterState& st,
-                        const RenderOutputGradients& grads, ProjectedGradients& out) {
-  const int W = st.width, H = st.height;
-  const size_t pixels = size_t(W) * H;
-  const size_t planes = pixels ? grads.instance_maps.size() / pixels : 0;
-  const bool color = settings.color && !grads.color.empty();
-  const bool instance = planes > 0;
-  const bool alpha_depth = !grads.alpha.empty() || !grads.depth.empty();
-  const TileFunction tile_fn = pick_tile_function(color, instance, alpha_depth);
-  // Every entry is written by the tile it belongs to: no zero fill needed.
-  std::vector<float>& entry_grads = st.entry_grads;
-  entry_grads.resize(st.bins.num_entries() * kEntryGrads);
+// Whole tile rows, greedily, each band with at most max_entries entries
+// unless one row alone has more.
+std::vector<TileRowBand> plan_bands(const TileBins& bins, size_t max_entries) {
+  std::vector<TileRowBand> bands;
+  auto row_entries = [&](int row) {
+    return size_t(bins.tile_start[size_t(row + 1) * bins.tiles_x] -
+                  bins.tile_start[size_t(row) * bins.tiles_x]);
+  };
+  size_t held = 0;
+  for (int row = 0; row < bins.tiles_y; ++row) {
+    const size_t entries = row_entries(row);
+    if (bands.empty() || held + entries > max_entries) {
+      bands.push_back({row, row + 1});
+      held = entries;
+    } else {
+      bands.back().row_end = row + 1;
+      held += entries;
+    }
+  }
+  return bands;
+}
 
-  const size_t tiles = size_t(st.bins.tiles_x) * st.bins.tiles_y;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const auto& range) {
+// Numbers the band's entries Gaussian by Gaussian, and each Gaussian's row by
+// row: fills st.band_entries and st.band_index; returns the entry count.
+size_t number_band_entries(RasterState& st, TileRowBand band) {
+  const ProjectedGaussians& p = st.projected;
+  const size_t n = p.size();
+  st.band_entries.resize(n + 1);
+  st.band_index.resize(n);
+  auto rows_in_band = [&](size_t i) {
+    const int32_t* r = &p.tile_rect[4 * i];
+    return std::max(0, std::min(r[3], band.row_end) - std::max(r[1], band.row_begin));
+  };
+  st.band_entries[0] = 0;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8192), [&](const auto& range) {
+    for (size_t i = range.begin(); i < range.end(); ++i) {
+      const int32_t* r = &p.tile_rect[4 * i];
+      st.band_entries[i + 1] = p.visible(i) ? uint32_t(rows_in_band(i) * (r[2] - r[0])) : 0;
+    }
+  });
+  for (size_t i = 0; i < n; ++i) st.band_entries[i + 1] += st.band_entries[i];
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8192), [&](const auto& range) {
+    for (size_t i = range.begin(); i < range.end(); ++i) {
+      const int32_t* r = &p.tile_rect[4 * i];
+      const int32_t width = r[2] - r[0], first_row = std::max(r[1], band.row_begin);
+      st.band_index[i] = {int32_t(st.band_entries[i]) - first_row * width - r[0], width};
+    }
+  });
+  return st.band_entries[n];
+}
+
+// Gradients of every entry of the band's tiles, into st.entry_grads.
+void backward_band(const RenderSettings& settings, RasterState& st,
+                   const RenderOutputGradients& grads, TileFunction tile_fn, bool color,
+                   size_t planes, TileRowBand band) {
+  const size_t tile_begin = size_t(band.row_begin) * st.bins.tiles_x,
+               tile_end = size_t(band.row_end) * st.bins.tiles_x;
+  tbb::parallel_for(tbb::blocked_range<size_t>(tile_begin, tile_end, 1), [&](const auto& range) {
     TileGaussians tg;
+    std::vector<uint32_t> entries;
     auto s = std::make_unique<TileBackState>();
     s->g_planes.assign(planes * kBlocks * kLanes, 0.f);
     for (size_t t = range.begin(); t < range.end(); ++t) {
       const uint32_t lo = st.bins.tile_start[t], hi = st.bins.tile_start[t + 1];
       if (lo == hi) continue;  // no entries to write
-      const int x0 = int(t % st.bins.tiles_x) * kTileSize,
-                y0 = int(t / st.bins.tiles_x) * kTileSize;
+      const int tx = int(t % st.bins.tiles_x), ty = int(t / st.bins.tiles_x);
+      entries.resize(hi - lo);
+      for (uint32_t k = lo; k < hi; ++k) {
+        const BandEntryIndex e = st.band_index[st.bins.slot_gaussian[k]];
+        entries[k - lo] = uint32_t(e.base + ty * e.width + tx);
+      }
       tg.gather(st, lo, hi);
       tg.use_blocks(st.slot_blocks.data() + lo);
-      load_tile_state(settings, st, grads, color, planes, x0, y0, *s);
-      tile_fn(tg, &st.bins.slot_entry[lo], x0, y0, *s, entry_grads);
+      load_tile_state(settings, st, grads, color, planes, tx * kTileSize, ty * kTileSize, *s);
+      tile_fn(tg, entries.data(), tx * kTileSize, ty * kTileSize, *s, st.entry_grads);
     }
   });
+}
 
-  // Each Gaussian's entries, summed in entry order.
+// Adds each Gaussian's entries of the band, in entry order, to its sums.
+void sum_band_entries(const RasterState& st, ProjectedGradients& out) {
   const size_t n = st.projected.size();
-  out.resize(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& range) {
     for (size_t i = range.begin(); i < range.end(); ++i) {
-      float sum[kEntryGrads] = {};
-      for (uint32_t e = st.bins.gaussian_entries[i]; e < st.bins.gaussian_entries[i + 1]; ++e)
-        for (int j = 0; j < kEntryGrads; ++j) sum[j] += entry_grads[size_t(e) * kEntryGrads + j];
+      const uint32_t first = st.band_entries[i], last = st.band_entries[i + 1];
+      if (first == last) continue;
+      float sum[kEntryGrads] = {out.mean2d[2 * i],    out.mean2d[2 * i + 1],  out.conic[3 * i],
+                                out.conic[3 * i + 1], out.conic[3 * i + 2],   out.color[3 * i],
+                                out.color[3 * i + 1], out.color[3 * i + 2],   out.depth[i],
+                                out.opacity[i],       out.instance_opacity[i]};
+      for (uint32_t e = first; e < last; ++e)
+        for (int j = 0; j < kEntryGrads; ++j) sum[j] += st.entry_grads[size_t(e) * kEntryGrads + j];
       out.mean2d[2 * i] = sum[kMeanX];
       out.mean2d[2 * i + 1] = sum[kMeanY];
       out.conic[3 * i] = sum[kConicA];
@@ -238,6 +295,32 @@ void rasterize_backward(const RenderSettings& settings, RasterState& st,
       out.instance_opacity[i] = sum[kInstanceOpacity];
     }
   });
+}
+
+}  // namespace
+
+void rasterize_backward(const RenderSettings& settings, RasterState& st,
+                        const RenderOutputGradients& grads, ProjectedGradients& out) {
+  const size_t pixels = size_t(st.width) * st.height;
+  const size_t planes = pixels ? grads.instance_maps.size() / pixels : 0;
+  const bool color = settings.color && !grads.color.empty();
+  const bool instance = planes > 0;
+  const bool alpha_depth = !grads.alpha.empty() || !grads.depth.empty();
+  const TileFunction tile_fn = pick_tile_function(color, instance, alpha_depth);
+  const size_t n = st.projected.size();
+  const size_t max_entries = st.max_band_entries
+                                 ? st.max_band_entries
+                                 : std::max(kBandEntriesPerGaussian * n, kMinBandEntries);
+  out.resize(n);
+  // Band after band, each Gaussian's entries are added in tile order, the
+  // same order whatever the banding or the thread count.
+  for (const TileRowBand band : plan_bands(st.bins, max_entries)) {
+    const size_t entries = number_band_entries(st, band);
+    // Every entry is written by the tile it belongs to: no zero fill needed.
+    st.entry_grads.resize(entries * kEntryGrads);
+    backward_band(settings, st, grads, tile_fn, color, planes, band);
+    sum_band_entries(st, out);
+  }
 }
 
 }  // namespace splat

@@ -27,14 +27,15 @@ struct CpuRenderState : RenderState {
     return bytes_of(p.mean2d) + bytes_of(p.conic) + bytes_of(p.depth) + bytes_of(p.radius) +
            bytes_of(p.tile_rect) + bytes_of(p.reach) + bytes_of(p.color) +
            bytes_of(p.color_clamped) + bytes_of(p.opacity) + bytes_of(p.instance_opacity) +
-           bytes_of(b.tile_start) + bytes_of(b.slot_gaussian) + bytes_of(b.slot_entry) +
-           bytes_of(b.gaussian_entries) + bytes_of(raster.final_transmittance) +
-           bytes_of(raster.n_contrib) + bytes_of(raster.map_of_label) + bytes_of(raster.labels) +
-           bytes_of(raster.records) + bytes_of(raster.slot_blocks);
+           bytes_of(b.tile_start) + bytes_of(b.slot_gaussian) + bytes_of(b.sort_keys) +
+           bytes_of(raster.final_transmittance) + bytes_of(raster.n_contrib) +
+           bytes_of(raster.map_of_label) + bytes_of(raster.labels) + bytes_of(raster.records) +
+           bytes_of(raster.slot_blocks);
   }
   size_t backward_bytes() const override {
     const ProjectedGradients& g = projected_grads;
-    return bytes_of(raster.entry_grads) + bytes_of(g.mean2d) + bytes_of(g.conic) +
+    return bytes_of(raster.entry_grads) + bytes_of(raster.band_entries) +
+           bytes_of(raster.band_index) + bytes_of(g.mean2d) + bytes_of(g.conic) +
            bytes_of(g.depth) + bytes_of(g.color) + bytes_of(g.opacity) +
            bytes_of(g.instance_opacity);
   }

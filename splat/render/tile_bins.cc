@@ -41,19 +41,6 @@ void bin_gaussians(const ProjectedGaussians& p, TileBins& b) {
   b.tiles_x = p.tiles_x;
   b.tiles_y = p.tiles_y;
   const size_t tiles = size_t(b.tiles_x) * b.tiles_y;
-  auto rect_tiles = [&](size_t i) -> uint32_t {
-    const int32_t* r = &p.tile_rect[4 * i];
-    return p.visible(i) ? uint32_t((r[2] - r[0]) * (r[3] - r[1])) : 0;
-  };
-
-  // Entries numbered Gaussian by Gaussian.
-  b.gaussian_entries.resize(n + 1);
-  b.gaussian_entries[0] = 0;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8192), [&](const auto& range) {
-    for (size_t i = range.begin(); i < range.end(); ++i) b.gaussian_entries[i + 1] = rect_tiles(i);
-  });
-  for (size_t i = 0; i < n; ++i) b.gaussian_entries[i + 1] += b.gaussian_entries[i];
-
   // Counting sort by tile without atomics: each chunk of Gaussians counts its
   // entries per tile, and gets its own write position in every tile.
   const size_t chunks = std::clamp<size_t>(n / 4096, 1, 64);
@@ -82,7 +69,8 @@ void bin_gaussians(const ProjectedGaussians& p, TileBins& b) {
   }
   b.tile_start[tiles] = total;
   const size_t entries = total;
-  std::vector<uint64_t> keys(entries);
+  std::vector<uint64_t>& keys = b.sort_keys;
+  keys.resize(entries);
   tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
     uint32_t* next = &position[c * tiles];
     const auto [lo, hi] = chunk_range(c);
@@ -94,7 +82,6 @@ void bin_gaussians(const ProjectedGaussians& p, TileBins& b) {
   });
 
   b.slot_gaussian.resize(entries);
-  b.slot_entry.resize(entries);
   // Chunks scatter in Gaussian order, so each tile's keys ascend by index
   // and a stable sort by depth gives the (depth, index) order.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 16), [&](const auto& range) {
@@ -102,14 +89,7 @@ void bin_gaussians(const ProjectedGaussians& p, TileBins& b) {
     for (size_t t = range.begin(); t < range.end(); ++t) {
       const uint32_t lo = b.tile_start[t], hi = b.tile_start[t + 1];
       radix_sort_by_depth(keys.data() + lo, hi - lo, scratch);
-      const int tx = int(t % b.tiles_x), ty = int(t / b.tiles_x);
-      for (uint32_t s = lo; s < hi; ++s) {
-        const uint32_t i = uint32_t(keys[s]);
-        const int32_t* r = &p.tile_rect[4 * i];
-        b.slot_gaussian[s] = i;
-        b.slot_entry[s] =
-            b.gaussian_entries[i] + uint32_t((ty - r[1]) * (r[2] - r[0]) + (tx - r[0]));
-      }
+      for (uint32_t s = lo; s < hi; ++s) b.slot_gaussian[s] = uint32_t(keys[s]);
     }
   });
 }
