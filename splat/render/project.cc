@@ -184,54 +184,107 @@ void project_geometry(const float* means, const float* rotations, const float* l
   }
 }
 
-// Finishes Gaussian i from lane l of its batch: culling, radius, tile
-// rectangle, opacities. Returns false when it is culled.
-bool project_one(const GaussianModel& m, const GeometryBatch& g, int l, size_t i,
-                 ProjectedGaussians& p) {
-  if (!(g.z[l] > kNearPlane)) return false;
-  const float sigma = sigmoid(m.opacity_logits[i]);
-  if (!(sigma >= kMinAlpha)) return false;  // alpha never reaches 1/255 anywhere
+// Culling, radius and tile rectangle of a batch, with the Gaussians as
+// vector lanes, from their geometry and opacity. visible[l] is 0 for a
+// culled Gaussian; its other fields are then meaningless.
+struct ExtentBatch {
+  alignas(64) float sigma[kBatch];  // filled by the caller
+  alignas(64) float ext_x[kBatch], ext_y[kBatch];
+  alignas(64) int32_t radius[kBatch], x0[kBatch], y0[kBatch], x1[kBatch], y1[kBatch];
+  alignas(64) int32_t visible[kBatch];
+};
+
+// Tile arithmetic on v held to [-1, tiles + 1] first: far outside the image
+// the result is clamped to the grid anyway, and the conversions stay
+// defined. Written with int conversions, as std::floor and std::ceil keep
+// GCC from vectorising the loop.
+inline float hold_to_grid(float v, int tiles) {
+  return std::min(std::max(v, -1.f), float(tiles + 1));
+}
+inline int32_t tile_index(float v, int tiles) { return int32_t(hold_to_grid(v, tiles)); }
+inline int32_t tile_floor(float v, int tiles) {
+  v = hold_to_grid(v, tiles);
+  const int32_t t = int32_t(v);
+  return t - (float(t) > v ? 1 : 0);
+}
+// ceil(v) for 0 <= v < 2^31.
+inline int32_t ceil_positive(float v) {
+  const int32_t t = int32_t(v);
+  return t + (float(t) < v ? 1 : 0);
+}
+
+void project_extents(const GeometryBatch& g, int tiles_x, int tiles_y, ExtentBatch& e) {
+  // In front of the near plane, alpha can reach 1/255 somewhere, and the
+  // covariance is positive definite (all false for NaN). Culled lanes go on
+  // with harmless values, and the covariance is held under 1e12 px^2 (a
+  // radius of 3e6 px, far past any image) so that the radius fits an int.
+  // (A loop of its own: merged with the next, GCC turns the selects into
+  // branches and vectorises neither.)
+  alignas(64) float sa[kBatch], sc[kBatch], sdet[kBatch], ssigma[kBatch], su[kBatch], sw[kBatch];
+  alignas(64) int32_t ok[kBatch];
+#pragma GCC ivdep
+  for (int l = 0; l < kBatch; ++l) {
+    const float a = g.a[l], b = g.b[l], c = g.c[l], sigma = e.sigma[l];
+    const float det = a * c - b * b;
+    const bool keep = (g.z[l] > kNearPlane) & (sigma >= kMinAlpha) & (det > 0);
+    ok[l] = keep ? 1 : 0;
+    sa[l] = keep ? std::min(a, 1e12f) : 1.f;
+    sc[l] = keep ? std::min(c, 1e12f) : 1.f;
+    sdet[l] = keep ? det : 1.f;
+    ssigma[l] = keep ? sigma : 1.f;
+    su[l] = keep ? g.u[l] : 0.f;
+    sw[l] = keep ? g.w[l] : 0.f;
+  }
+#pragma GCC ivdep
+  for (int l = 0; l < kBatch; ++l) {
+    const float a = sa[l], c = sc[l];
+    const float mid = 0.5f * (a + c);
+    const float lambda = mid + std::sqrt(std::max(0.1f, mid * mid - sdet[l]));
+    const int32_t radius = ceil_positive(3.f * std::sqrt(lambda));
+    // The reference's tile rectangle, in its pixel coordinates (centres at integers).
+    const float cu = su[l] - 0.5f, cw = sw[l] - 0.5f;
+    int32_t x0 = std::clamp(tile_index((cu - radius) / kTileSize, tiles_x), 0, tiles_x);
+    int32_t x1 =
+        std::clamp(tile_index((cu + radius + kTileSize - 1) / kTileSize, tiles_x), 0, tiles_x);
+    int32_t y0 = std::clamp(tile_index((cw - radius) / kTileSize, tiles_y), 0, tiles_y);
+    int32_t y1 =
+        std::clamp(tile_index((cw + radius + kTileSize - 1) / kTileSize, tiles_y), 0, tiles_y);
+    // Narrow to where sigma G >= 1/255: d^T Q d <= 2 ln(255 sigma), an ellipse
+    // with half-extents sqrt(2 ln(255 sigma) cov_xx) and ..._yy; with a margin.
+    const float level = 2.f * fast_log(255.f * ssigma[l]);
+    const float ext_x = 1.001f * std::sqrt(level * a) + 0.01f;
+    const float ext_y = 1.001f * std::sqrt(level * c) + 0.01f;
+    x0 = std::max(x0, tile_floor((cu - ext_x) / kTileSize, tiles_x));
+    x1 = std::min(x1, tile_floor((cu + ext_x) / kTileSize, tiles_x) + 1);
+    y0 = std::max(y0, tile_floor((cw - ext_y) / kTileSize, tiles_y));
+    y1 = std::min(y1, tile_floor((cw + ext_y) / kTileSize, tiles_y) + 1);
+    e.ext_x[l] = ext_x;
+    e.ext_y[l] = ext_y;
+    e.radius[l] = radius;
+    e.x0[l] = x0, e.y0[l] = y0, e.x1[l] = x1, e.y1[l] = y1;
+    e.visible[l] = ok[l] & (x1 > x0) & (y1 > y0);
+  }
+}
+
+// Stores Gaussian i from lane l of its batch, which is visible.
+void store_projected(const GaussianModel& m, const GeometryBatch& g, const ExtentBatch& e, int l,
+                     size_t i, ProjectedGaussians& p) {
   const float a = g.a[l], b = g.b[l], c = g.c[l];
   const float det = a * c - b * b;
-  if (!(det > 0)) return false;
-  const float mid = 0.5f * (a + c);
-  const float lambda = mid + std::sqrt(std::max(0.1f, mid * mid - det));
-  const int radius = int(std::ceil(3.f * std::sqrt(lambda)));
-  const float u = g.u[l], w = g.w[l];
-
-  // The reference's tile rectangle, in its pixel coordinates (centres at integers).
-  auto rect = [](float center, int r, int tiles) {
-    const int lo = std::clamp(int((center - r) / kTileSize), 0, tiles);
-    const int hi = std::clamp(int((center + r + kTileSize - 1) / kTileSize), 0, tiles);
-    return std::pair{lo, hi};
-  };
-  auto [x0, x1] = rect(u - 0.5f, radius, p.tiles_x);
-  auto [y0, y1] = rect(w - 0.5f, radius, p.tiles_y);
-  // Narrow to where sigma G >= 1/255: d^T Q d <= 2 ln(255 sigma), an ellipse
-  // with half-extents sqrt(2 ln(255 sigma) cov_xx) and ..._yy; with a margin.
-  const float level = 2.f * std::log(255.f * sigma);
-  const float ext_x = 1.001f * std::sqrt(level * a) + 0.01f;
-  const float ext_y = 1.001f * std::sqrt(level * c) + 0.01f;
-  x0 = std::max(x0, int(std::floor((u - ext_x - 0.5f) / kTileSize)));
-  x1 = std::min(x1, int(std::floor((u + ext_x - 0.5f) / kTileSize)) + 1);
-  y0 = std::max(y0, int(std::floor((w - ext_y - 0.5f) / kTileSize)));
-  y1 = std::min(y1, int(std::floor((w + ext_y - 0.5f) / kTileSize)) + 1);
-  if (x1 <= x0 || y1 <= y0) return false;
-
-  p.mean2d[2 * i] = u;
-  p.mean2d[2 * i + 1] = w;
+  p.mean2d[2 * i] = g.u[l];
+  p.mean2d[2 * i + 1] = g.w[l];
   p.conic[3 * i] = c / det;
   p.conic[3 * i + 1] = -b / det;
   p.conic[3 * i + 2] = a / det;
   p.depth[i] = g.z[l];
-  p.radius[i] = radius;
-  p.reach[2 * i] = ext_x;
-  p.reach[2 * i + 1] = ext_y;
+  p.radius[i] = e.radius[l];
+  p.reach[2 * i] = e.ext_x[l];
+  p.reach[2 * i + 1] = e.ext_y[l];
   int32_t* r = &p.tile_rect[4 * i];
-  r[0] = x0, r[1] = y0, r[2] = x1, r[3] = y1;
-  p.opacity[i] = sigma;
-  p.instance_opacity[i] = m.has_instance_opacity ? sigmoid(m.instance_opacity_logits[i]) : sigma;
-  return true;
+  r[0] = e.x0[l], r[1] = e.y0[l], r[2] = e.x1[l], r[3] = e.y1[l];
+  p.opacity[i] = e.sigma[l];
+  p.instance_opacity[i] =
+      m.has_instance_opacity ? sigmoid(m.instance_opacity_logits[i]) : e.sigma[l];
 }
 
 }  // namespace
@@ -258,6 +311,7 @@ void project_gaussians(const GaussianModel& m, const Camera& cam, const RenderSe
   const size_t batches = (n + kBatch - 1) / kBatch;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, batches, 256), [&](const auto& range) {
     GeometryBatch g;
+    ExtentBatch e;
     for (size_t batch = range.begin(); batch < range.end(); ++batch) {
       const size_t first = batch * kBatch, count = std::min<size_t>(kBatch, n - first);
       if (count == kBatch) {
@@ -273,9 +327,13 @@ void project_gaussians(const GaussianModel& m, const Camera& cam, const RenderSe
         }
         project_geometry(means, rotations, log_scales, v, g);
       }
+      for (int l = 0; l < kBatch; ++l)
+        e.sigma[l] = sigmoid(m.opacity_logits[first + std::min<size_t>(l, count - 1)]);
+      project_extents(g, p.tiles_x, p.tiles_y, e);
       for (int l = 0; l < int(count); ++l) {
+        if (!e.visible[l]) continue;
         const size_t i = first + size_t(l);
-        if (!project_one(m, g, l, i, p)) continue;
+        store_projected(m, g, e, l, i, p);
         if (s.color) {
           const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
           evaluate_color(m, i, (mean - v.center).normalized(), s.sh_degree, &p.color[3 * i],

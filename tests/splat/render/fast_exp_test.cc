@@ -20,5 +20,20 @@ TEST(FastExp, MatchesStdExpOnTheRendererRange) {
   EXPECT_LT(fast_exp(-1000.f), 1e-37f);
 }
 
+TEST(FastLog, MatchesStdLog) {
+  // Densely where the renderer uses it (ln(255 sigma), 255 sigma in [1, 255]),
+  // then across the float range.
+  for (double x = 1.0; x <= 255.0; x += 1e-3) {
+    const float xf = float(x);
+    const double want = std::log(double(xf));
+    ASSERT_NEAR(fast_log(xf), want, 1e-7 + 1e-7 * std::abs(want)) << x;
+  }
+  for (double x = 1e-30; x < 1e30; x *= 1.001) {
+    const float xf = float(x);
+    const double want = std::log(double(xf));
+    ASSERT_NEAR(fast_log(xf), want, 1e-7 + 1e-7 * std::abs(want)) << x;
+  }
+}
+
 }  // namespace
 }  // namespace splat
