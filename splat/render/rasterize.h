@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "splat/huge_page_allocator.h"
 #include "splat/render/project.h"
 #include "splat/render/render_types.h"
 #include "splat/render/tile_bins.h"
@@ -63,8 +64,9 @@ struct RasterState {
   std::vector<uint32_t> n_contrib;         // W * H: tile-list position of the last contributor + 1
   std::vector<int32_t> map_of_label;       // label -> instance map plane, -1 if none
   std::vector<int32_t> labels;             // per Gaussian (copied from the model, 0 if none)
-  std::vector<SplatRecord> records;        // per Gaussian, filled for visible ones
-  std::vector<uint16_t> slot_blocks;       // per slot: the tile's 4x4 blocks it reaches, a bit each
+  // Per Gaussian, filled for visible ones; read at random, tile by tile.
+  std::vector<SplatRecord, HugePageAllocator<SplatRecord>> records;
+  std::vector<uint16_t> slot_blocks;  // per slot: the tile's 4x4 blocks it reaches, a bit each
   // Backward scratch, for one band of tile rows at a time:
   std::vector<float> entry_grads;          // gradient per (Gaussian, tile) entry of the band
   std::vector<uint32_t> band_entries;      // N + 1: entries of Gaussian i are [i] .. [i+1]

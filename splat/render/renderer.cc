@@ -12,8 +12,8 @@
 namespace splat {
 namespace {
 
-template <typename T>
-size_t bytes_of(const std::vector<T>& v) {
+template <typename T, typename Allocator>
+size_t bytes_of(const std::vector<T, Allocator>& v) {
   return v.capacity() * sizeof(T);
 }
 
