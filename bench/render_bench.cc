@@ -83,7 +83,7 @@ void BM_AllObjectMasksOnly(benchmark::State& state) {
   const GaussianModel m = scene_of(c);
   const Camera cam = bench_camera(c.width, c.height);
   RenderSettings s;
-  s.color = false;
+  s.color = s.depth = false;
   s.all_instance_labels = true;
   RenderOutput out;
   std::unique_ptr<RenderState> rs;
@@ -96,7 +96,7 @@ void BM_LabelMapsOnly(benchmark::State& state) {
   const GaussianModel m = scene_of(c);
   const Camera cam = bench_camera(c.width, c.height);
   RenderSettings s;
-  s.color = false;
+  s.color = s.depth = false;
   s.instance_label_map = s.baseline_label_map = true;
   RenderOutput out;
   std::unique_ptr<RenderState> rs;
@@ -158,7 +158,7 @@ void BM_InstanceCostRatios(benchmark::State& state) {
   const Camera cam = bench_camera(c.width, c.height);
   RenderSettings colour, instance, masks;
   instance.instance_labels = {2, 5, 7};
-  masks.color = false;
+  masks.color = masks.depth = false;
   masks.all_instance_labels = true;
   RenderOutput out;
   std::unique_ptr<RenderState> rs;

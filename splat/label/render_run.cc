@@ -168,9 +168,9 @@ RenderTiming run_render(const fs::path& scene_dir, const fs::path& out, const Re
   color_only.instance_labels.clear();
   color_only.all_instance_labels = color_only.instance_label_map = color_only.baseline_label_map =
       false;
-  masks_only.color = false;
+  masks_only.color = masks_only.depth = false;
   masks_only.instance_label_map = masks_only.baseline_label_map = false;
-  label_map_only.color = false;
+  label_map_only.color = label_map_only.depth = false;
   label_map_only.instance_labels.clear();
   label_map_only.all_instance_labels = label_map_only.baseline_label_map = false;
 

@@ -269,7 +269,7 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& work, const 
   // The ablation's baseline label maps of the test views.
   if (o.baseline_maps) {
     RenderSettings settings;
-    settings.color = false;
+    settings.color = settings.depth = false;
     settings.sh_degree = std::min(stage_one.sh_degree, kMaxShDegree);
     settings.baseline_label_map = true;
     for (size_t v : split.test) {

@@ -64,7 +64,7 @@ struct Candidate {
 
 RenderSettings mask_settings(const CheckpointModel& m, const EmbedRunOptions& o) {
   RenderSettings s;
-  s.color = false;
+  s.color = s.depth = false;
   s.sh_degree = std::min(m.sh_degree, kMaxShDegree);
   s.instance_labels = o.objects;
   s.all_instance_labels = o.objects.empty();

@@ -1,7 +1,13 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <utility>
+#if defined(__SSE__)
+#include <immintrin.h>
+#endif
 
 #include "splat/render/fast_exp.h"
 #include "splat/render/pixel_block.h"
@@ -61,7 +67,7 @@ struct BlockState {
 
 // Blends Gaussian k of the tile into the block whose first pixel centre is
 // (px0, py0).
-template <bool kColor, bool kInstance, bool kLabels>
+template <bool kColor, bool kDepth, bool kInstance, bool kLabels>
 inline void blend(const TileGaussians& tg, size_t k, float px0, float py0, BlockState& s) {
   const SplatRecord& g = tg[k];
   const float mx = g.mx - px0, my = g.my - py0, A = g.A, B = g.B, C = g.C;
@@ -89,7 +95,7 @@ inline void blend(const TileGaussians& tg, size_t k, float px0, float py0, Block
       s.color[1][l] += w * cg;
       s.color[2][l] += w * cb;
     }
-    s.depth[l] += w * z;
+    if constexpr (kDepth) s.depth[l] += w * z;
     if constexpr (kInstance || kLabels) {
       const float alpha_star = std::min(kMaxAlpha, op_star * G);
       if constexpr (kInstance) plane[l] += m_contribute * alpha_star * s.T[l];
@@ -111,7 +117,7 @@ inline void blend(const TileGaussians& tg, size_t k, float px0, float py0, Block
   }
 }
 
-template <bool kColor, bool kInstance, bool kLabels>
+template <bool kColor, bool kDepth, bool kInstance, bool kLabels>
 void blend_block(const TileGaussians& tg, int b, const PixelBlock& block, BlockState& s) {
   const uint32_t* entries = tg.block_entries.data();
   const uint32_t begin = tg.block_start[b], end = tg.block_start[b + 1];
@@ -121,28 +127,29 @@ void blend_block(const TileGaussians& tg, int b, const PixelBlock& block, BlockS
     // Only Gaussians whose label has a map pay for the instance branch.
     if (kInstance && tg[k].plane >= 0) {
       s.touch(tg[k].plane);
-      blend<kColor, kInstance, kLabels>(tg, k, x0, y0, s);
+      blend<kColor, kDepth, kInstance, kLabels>(tg, k, x0, y0, s);
     } else
-      blend<kColor, false, kLabels>(tg, k, x0, y0, s);
+      blend<kColor, kDepth, false, kLabels>(tg, k, x0, y0, s);
     if (((e - begin) & 15) == 15 && s.all_done()) break;
   }
 }
 
 using BlockFunction = void (*)(const TileGaussians&, int, const PixelBlock&, BlockState&);
 
-BlockFunction pick_block_function(bool color, bool instance, bool labels) {
-  static constexpr BlockFunction table[8] = {
-      blend_block<false, false, false>, blend_block<false, false, true>,
-      blend_block<false, true, false>,  blend_block<false, true, true>,
-      blend_block<true, false, false>,  blend_block<true, false, true>,
-      blend_block<true, true, false>,   blend_block<true, true, true>};
-  return table[(color ? 4 : 0) + (instance ? 2 : 0) + (labels ? 1 : 0)];
+template <int... kFlags>
+constexpr auto block_functions(std::integer_sequence<int, kFlags...>) {
+  return std::array<BlockFunction, sizeof...(kFlags)>{
+      blend_block<bool(kFlags & 8), bool(kFlags & 4), bool(kFlags & 2), bool(kFlags & 1)>...};
+}
+
+BlockFunction pick_block_function(bool color, bool depth, bool instance, bool labels) {
+  static constexpr auto table = block_functions(std::make_integer_sequence<int, 16>());
+  return table[(color ? 8 : 0) + (depth ? 4 : 0) + (instance ? 2 : 0) + (labels ? 1 : 0)];
 }
 
 void store_block(const RenderSettings& settings, const PixelBlock& block, const BlockState& s,
                  RasterState& st, RenderOutput& out) {
   const int W = st.width, H = st.height;
-  const size_t pixels = size_t(W) * H, planes = out.instance_map_labels.size();
   for (int l = 0; l < kLanes; ++l) {
     if (!block.inside(l, W, H)) continue;
     const size_t pix = block.pixel(l, W);
@@ -150,27 +157,69 @@ void store_block(const RenderSettings& settings, const PixelBlock& block, const 
       for (int c = 0; c < 3; ++c)
         out.color[3 * pix + c] = s.color[c][l] + s.T[l] * settings.background[c];
     out.alpha[pix] = 1.f - s.T[l];
-    out.depth[pix] = s.depth[l];
+    if (settings.depth) out.depth[pix] = s.depth[l];
     out.contributors[pix] = uint32_t(s.blended[l]);
     st.final_transmittance[pix] = s.T[l];
     st.n_contrib[pix] = uint32_t(s.last[l]);
     if (settings.instance_label_map) out.instance_label[pix] = s.instance_label[l];
     if (settings.baseline_label_map) out.baseline_label[pix] = s.baseline_label[l];
   }
-  // Plane by plane, a block row (4 pixels) at a time.
-  for (size_t m = 0; m < planes; ++m) {
-    float* plane = &out.instance_maps[m * pixels];
-    const bool touched = s.touched[m];
-    for (int row = 0; row < kBlockSize; ++row) {
-      const int y = block.y0 + row;
-      if (y >= H) break;
-      const int n = std::min(kBlockSize, W - block.x0);
-      const float* from = &s.planes[m * kLanes + row * kBlockSize];
-      float* to = plane + size_t(y) * W + block.x0;
-      for (int x = 0; x < n; ++x) to[x] = touched ? from[x] : 0.f;  // at most 4: no memmove
+}
+
+// Writes 16 floats (64 bytes) to the output. The occupancy planes are the
+// bulk of a mask render's output (4 bytes a pixel and object) and are not
+// read back: where the row is one whole aligned cache line, streaming stores
+// write it without first reading it into the cache.
+inline void write_tile_row(const float* from, float* to) {
+#if defined(__SSE__)
+  if (reinterpret_cast<uintptr_t>(to) % 64 == 0) {
+    for (int x = 0; x < kTileSize; x += 4) _mm_stream_ps(to + x, _mm_loadu_ps(from + x));
+    return;
+  }
+#endif
+  std::copy_n(from, kTileSize, to);
+}
+
+// The occupancy planes of one tile, gathered from its blocks and written out
+// a tile row at a time. A plane no block of the tile reached is written as
+// zeros without being cleared here.
+struct TilePlanes {
+  std::vector<float> values;     // [plane][row][column], kTileSize x kTileSize each
+  std::vector<uint8_t> touched;  // per plane: a block of this tile wrote it
+  alignas(64) float zeros[kTileSize] = {};
+
+  void begin(size_t planes) {
+    values.resize(planes * kTileSize * kTileSize);
+    touched.assign(planes, 0);
+  }
+  // Copies block b's planes; a plane the block did not reach is zero there.
+  void add_block(const BlockState& s, int b) {
+    const PixelBlock block = PixelBlock::in_tile(0, 0, b);
+    for (int32_t m : s.touched_planes) {
+      float* plane = &values[size_t(m) * kTileSize * kTileSize];
+      if (!touched[size_t(m)]) std::fill_n(plane, kTileSize * kTileSize, 0.f);
+      touched[size_t(m)] = 1;
+      for (int row = 0; row < kBlockSize; ++row)
+        std::copy_n(&s.planes[size_t(m) * kLanes + row * kBlockSize], kBlockSize,
+                    plane + (block.y0 + row) * kTileSize + block.x0);
     }
   }
-}
+  void store(int tile_x0, int tile_y0, int W, int H, float* maps) const {
+    const size_t pixels = size_t(W) * H;
+    const int columns = std::min(kTileSize, W - tile_x0), rows = std::min(kTileSize, H - tile_y0);
+    for (size_t m = 0; m < touched.size(); ++m) {
+      const float* plane = touched[m] ? &values[m * kTileSize * kTileSize] : nullptr;
+      for (int row = 0; row < rows; ++row) {
+        const float* from = plane ? plane + row * kTileSize : zeros;
+        float* to = maps + m * pixels + size_t(tile_y0 + row) * W + tile_x0;
+        if (columns == kTileSize)
+          write_tile_row(from, to);
+        else
+          std::copy_n(from, columns, to);
+      }
+    }
+  }
+};
 
 void pack_records(bool color, RasterState& st) {
   const ProjectedGaussians& p = st.projected;
@@ -212,14 +261,15 @@ void rasterize_forward(const RenderSettings& settings, RasterState& st, RenderOu
   // store_block writes every pixel of every output: sizes only, no fill.
   out.color.resize(settings.color ? 3 * pixels : 0);
   out.alpha.resize(pixels);
-  out.depth.resize(pixels);
+  out.depth.resize(settings.depth ? pixels : 0);
   out.contributors.resize(pixels);
   out.instance_maps.resize(planes * pixels);
   out.instance_label.resize(settings.instance_label_map ? pixels : 0);
   out.baseline_label.resize(settings.baseline_label_map ? pixels : 0);
   st.final_transmittance.resize(pixels);
   st.n_contrib.resize(pixels);
-  const BlockFunction block_fn = pick_block_function(settings.color, planes > 0, labels);
+  const BlockFunction block_fn =
+      pick_block_function(settings.color, settings.depth, planes > 0, labels);
   pack_records(settings.color, st);
   st.slot_blocks.resize(st.bins.num_entries());
 
@@ -227,19 +277,26 @@ void rasterize_forward(const RenderSettings& settings, RasterState& st, RenderOu
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const auto& range) {
     TileGaussians tg;
     BlockState s;
+    TilePlanes tile_planes;
     for (size_t t = range.begin(); t < range.end(); ++t) {
       const int tile_x0 = int(t % st.bins.tiles_x) * kTileSize;
       const int tile_y0 = int(t / st.bins.tiles_x) * kTileSize;
       const uint32_t lo = st.bins.tile_start[t], hi = st.bins.tile_start[t + 1];
       tg.gather_with_blocks(st, lo, hi, tile_x0, tile_y0, st.slot_blocks.data() + lo);
+      tile_planes.begin(planes);
       for (int b = 0; b < kBlocksPerTile; ++b) {
         const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
         if (block.x0 >= W || block.y0 >= H) continue;
         s.reset(block, W, H, planes);
         block_fn(tg, b, block, s);
         store_block(settings, block, s, st, out);
+        tile_planes.add_block(s, b);
       }
+      tile_planes.store(tile_x0, tile_y0, W, H, out.instance_maps.data());
     }
+#if defined(__SSE__)
+    _mm_sfence();  // the streaming stores are visible before the loop returns
+#endif
   });
 }
 

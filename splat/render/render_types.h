@@ -24,6 +24,7 @@ struct RenderSettings {
   float background[3] = {0, 0, 0};
   int sh_degree = kMaxShDegree;  // active SH degree, 0..3
   bool color = true;             // false: instance branch only, no colour work
+  bool depth = true;             // false: no depth output (a mask query needs none)
 
   // The dual-opacity branch (paper, eq. S_j). Occupancy maps
   //   S_j(v) = sum over Gaussians i with label j of alpha*_i T_i,
@@ -42,7 +43,8 @@ struct RenderOutput {
   int width = 0, height = 0;
   std::vector<float> color;  // 3 * W * H, over the background
   std::vector<float> alpha;  // W * H, accumulated alpha = 1 - T_final
-  std::vector<float> depth;  // W * H, sum of z_i alpha_i T_i (divide by alpha for mean depth)
+  std::vector<float> depth;  // W * H, sum of z_i alpha_i T_i (divide by alpha for mean depth);
+                             // empty when settings.depth is false
   std::vector<uint32_t> contributors;  // W * H, number of Gaussians blended into the pixel
   // Occupancy maps, one W * H plane per entry of instance_map_labels.
   std::vector<int32_t> instance_map_labels;

@@ -88,6 +88,15 @@ TEST(Renderer, InstanceOnlyRenderGivesTheSameMaps) {
   EXPECT_EQ(masks_only.instance_maps, with_color.instance_maps);
   EXPECT_EQ(masks_only.instance_label, with_color.instance_label);
   EXPECT_EQ(masks_only.alpha, with_color.alpha);
+  EXPECT_EQ(masks_only.depth, with_color.depth);
+  // A mask query needs no depth either.
+  s.depth = false;
+  const RenderOutput no_depth = CpuRenderer().render(m, cam, s);
+  EXPECT_TRUE(no_depth.depth.empty());
+  EXPECT_EQ(no_depth.instance_maps, with_color.instance_maps);
+  EXPECT_EQ(no_depth.instance_label, with_color.instance_label);
+  EXPECT_EQ(no_depth.baseline_label, with_color.baseline_label);
+  EXPECT_EQ(no_depth.alpha, with_color.alpha);
 }
 
 TEST(Renderer, NoGaussiansGivesBackground) {
