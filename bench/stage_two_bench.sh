@@ -9,20 +9,28 @@
 #   - test PSNR against continuing stage one without the object loss;
 #   - seconds per iteration of stage two with and without the object loss.
 #
-#   bench/stage_two_bench.sh [build dir] [work dir]
+# A third argument scales the schedule down by another factor instead of 4
+# (2: 15,000 iterations, stage one to 10,000).
+#
+#   bench/stage_two_bench.sh [build dir] [work dir] [scale]
 set -euo pipefail
 build="${1:-build}"
 out="${2:-$(mktemp -d)}"
+scale="${3:-4}"
+total=$((30000 / scale))
+stage_one=$((20000 / scale))
+densify_until=$((15000 / scale))
 mkdir -p "$out"
 bin="$build/stages"
 quiet() { "$@" 2>&1 | tr '\r' '\n' | grep -v '^\[[#-]'; }
 [ -d "$out/scene" ] || "$bin/op2gs-synth" "$out/scene" > /dev/null
-quiet "$bin/op2gs-train" "$out/scene" "$out/work" --iterations 5000 --schedule 7500 \
-  --densify-until 3750
+quiet "$bin/op2gs-train" "$out/scene" "$out/work" --iterations "$stage_one" --schedule "$total" \
+  --densify-until "$densify_until"
 quiet "$bin/op2gs-vote" "$out/scene" "$out/work"
 cp -r "$out/work" "$out/control"
-quiet "$bin/op2gs-learn" "$out/scene" "$out/work" --iterations 7500 --schedule 7500
-quiet "$bin/op2gs-learn" "$out/scene" "$out/control" --iterations 7500 --schedule 7500 --lambda-o 0
+quiet "$bin/op2gs-learn" "$out/scene" "$out/work" --iterations "$total" --schedule "$total"
+quiet "$bin/op2gs-learn" "$out/scene" "$out/control" --iterations "$total" --schedule "$total" \
+  --lambda-o 0
 quiet "$bin/op2gs-render" "$out/scene" "$out/work"
 "$bin/op2gs-eval" "$out/scene" --pred dual-opacity="$out/work/render/masks" \
   --pred baseline="$out/work/render/baseline_labels" \
