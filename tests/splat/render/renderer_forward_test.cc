@@ -82,21 +82,22 @@ TEST(Renderer, InstanceOnlyRenderGivesTheSameMaps) {
   const Camera cam = test_camera();
   RenderSettings s = full_settings();
   const RenderOutput with_color = CpuRenderer().render(m, cam, s);
+  auto expect_same_masks = [&](const RenderOutput& r) {
+    EXPECT_TRUE(r.color.empty());
+    EXPECT_EQ(r.instance_maps, with_color.instance_maps);
+    EXPECT_EQ(r.instance_label, with_color.instance_label);
+    EXPECT_EQ(r.baseline_label, with_color.baseline_label);
+    EXPECT_EQ(r.alpha, with_color.alpha);
+  };
   s.color = false;
   const RenderOutput masks_only = CpuRenderer().render(m, cam, s);
-  EXPECT_TRUE(masks_only.color.empty());
-  EXPECT_EQ(masks_only.instance_maps, with_color.instance_maps);
-  EXPECT_EQ(masks_only.instance_label, with_color.instance_label);
-  EXPECT_EQ(masks_only.alpha, with_color.alpha);
+  expect_same_masks(masks_only);
   EXPECT_EQ(masks_only.depth, with_color.depth);
   // A mask query needs no depth either.
   s.depth = false;
   const RenderOutput no_depth = CpuRenderer().render(m, cam, s);
+  expect_same_masks(no_depth);
   EXPECT_TRUE(no_depth.depth.empty());
-  EXPECT_EQ(no_depth.instance_maps, with_color.instance_maps);
-  EXPECT_EQ(no_depth.instance_label, with_color.instance_label);
-  EXPECT_EQ(no_depth.baseline_label, with_color.baseline_label);
-  EXPECT_EQ(no_depth.alpha, with_color.alpha);
 }
 
 TEST(Renderer, NoGaussiansGivesBackground) {
