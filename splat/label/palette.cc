@@ -16,7 +16,7 @@ std::array<float, 3> label_color(int32_t label) {
   return {float(rgb[sector][0]), float(rgb[sector][1]), float(rgb[sector][2])};
 }
 
-ImageRGB colorize_labels(const std::vector<int32_t>& labels, int width, int height) {
+ImageRGB colorize_labels(std::span<const int32_t> labels, int width, int height) {
   ImageRGB image(width, height);
   for (size_t p = 0; p < labels.size() && p < size_t(width) * height; ++p) {
     const auto c = label_color(labels[p]);
@@ -26,7 +26,7 @@ ImageRGB colorize_labels(const std::vector<int32_t>& labels, int width, int heig
 }
 
 void write_label_map(const std::filesystem::path& folder, const std::string& stem,
-                     const std::vector<int32_t>& labels, int width, int height) {
+                     std::span<const int32_t> labels, int width, int height) {
   IdMap ids(width, height);
   for (size_t p = 0; p < ids.ids.size(); ++p)
     ids.ids[p] = uint16_t(std::clamp(labels[p], 0, 65535));

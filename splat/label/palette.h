@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -16,11 +17,11 @@ namespace splat {
 std::array<float, 3> label_color(int32_t label);
 
 // A label map (W * H) as an RGB image.
-ImageRGB colorize_labels(const std::vector<int32_t>& labels, int width, int height);
+ImageRGB colorize_labels(std::span<const int32_t> labels, int width, int height);
 
 // A label map (W * H) as two PNGs: <folder>/<stem>.png with the exact IDs
 // (16 bit, for the evaluation) and <folder>_color/<stem>.png to look at.
 void write_label_map(const std::filesystem::path& folder, const std::string& stem,
-                     const std::vector<int32_t>& labels, int width, int height);
+                     std::span<const int32_t> labels, int width, int height);
 
 }  // namespace splat

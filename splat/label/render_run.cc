@@ -78,7 +78,7 @@ std::vector<Shot> shots_of(const Scene& scene, const RenderRunOptions& o) {
   return shots;
 }
 
-ImageRGB to_image(const std::vector<float>& color, int w, int h) {
+ImageRGB to_image(std::span<const float> color, int w, int h) {
   ImageRGB image(w, h);
   for (size_t i = 0; i < image.data.size(); ++i) image.data[i] = std::clamp(color[i], 0.f, 1.f);
   return image;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "splat/gaussians.h"
+#include "splat/huge_page_allocator.h"
 
 namespace splat {
 
@@ -39,18 +40,21 @@ struct RenderSettings {
   bool baseline_label_map = false;
 };
 
+// The images are ImageBuffers: cache-line aligned (whole-line streaming
+// stores), in 2 MiB pages when large, and not cleared when they grow, as the
+// renderer writes every element.
 struct RenderOutput {
   int width = 0, height = 0;
-  std::vector<float> color;  // 3 * W * H, over the background
-  std::vector<float> alpha;  // W * H, accumulated alpha = 1 - T_final
-  std::vector<float> depth;  // W * H, sum of z_i alpha_i T_i (divide by alpha for mean depth);
+  ImageBuffer<float> color;  // 3 * W * H, over the background
+  ImageBuffer<float> alpha;  // W * H, accumulated alpha = 1 - T_final
+  ImageBuffer<float> depth;  // W * H, sum of z_i alpha_i T_i (divide by alpha for mean depth);
                              // empty when settings.depth is false
-  std::vector<uint32_t> contributors;  // W * H, number of Gaussians blended into the pixel
+  ImageBuffer<uint32_t> contributors;  // W * H, number of Gaussians blended into the pixel
   // Occupancy maps, one W * H plane per entry of instance_map_labels.
   std::vector<int32_t> instance_map_labels;
-  std::vector<float> instance_maps;
-  std::vector<int32_t> instance_label;  // W * H if requested
-  std::vector<int32_t> baseline_label;  // W * H if requested
+  ImageBuffer<float> instance_maps;
+  ImageBuffer<int32_t> instance_label;  // W * H if requested
+  ImageBuffer<int32_t> baseline_label;  // W * H if requested
   std::vector<int32_t> radii;           // per Gaussian: screen radius in pixels, 0 if culled
 };
 

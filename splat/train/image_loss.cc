@@ -101,7 +101,7 @@ double ssim_plane(const std::vector<float>& x, const std::vector<float>& y, int 
   return sum;
 }
 
-std::vector<float> channel(const std::vector<float>& rgb, int c) {
+std::vector<float> channel(std::span<const float> rgb, int c) {
   std::vector<float> p(rgb.size() / 3);
   for (size_t i = 0; i < p.size(); ++i) p[i] = rgb[3 * i + c];
   return p;
@@ -109,7 +109,7 @@ std::vector<float> channel(const std::vector<float>& rgb, int c) {
 
 }  // namespace
 
-ImageLoss image_loss(const std::vector<float>& rendered, const ImageRGB& target,
+ImageLoss image_loss(std::span<const float> rendered, const ImageRGB& target,
                      const ImageLossOptions& options, std::vector<float>* grad) {
   const int W = target.width, H = target.height;
   const size_t n = target.data.size();
@@ -142,14 +142,14 @@ ImageLoss image_loss(const std::vector<float>& rendered, const ImageRGB& target,
   return loss;
 }
 
-double ssim(const std::vector<float>& a, const std::vector<float>& b, int width, int height) {
+double ssim(std::span<const float> a, std::span<const float> b, int width, int height) {
   double sum = 0;
   for (int c = 0; c < 3; ++c)
     sum += ssim_plane(channel(a, c), channel(b, c), width, height, nullptr);
   return sum / a.size();
 }
 
-double psnr(const std::vector<float>& a, const std::vector<float>& b) {
+double psnr(std::span<const float> a, std::span<const float> b) {
   double mse = 0;
   for (size_t i = 0; i < a.size(); ++i) mse += (double(a[i]) - b[i]) * (double(a[i]) - b[i]);
   mse /= a.size();

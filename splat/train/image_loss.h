@@ -5,6 +5,7 @@
 // zero padding at the borders (PyTorch's conv2d with padding 5, as the
 // reference computes it), averaged over pixels and channels.
 
+#include <span>
 #include <vector>
 
 #include "splat/image.h"
@@ -23,12 +24,12 @@ struct ImageLoss {
 
 // Loss of rendered (interleaved RGB, W x H) against target; when grad is not
 // null it receives dLoss/d(rendered), same layout.
-ImageLoss image_loss(const std::vector<float>& rendered, const ImageRGB& target,
+ImageLoss image_loss(std::span<const float> rendered, const ImageRGB& target,
                      const ImageLossOptions& options, std::vector<float>* grad);
 
 // Mean SSIM of two RGB images (the reference's window and constants), and
 // PSNR in dB of images in [0, 1].
-double ssim(const std::vector<float>& a, const std::vector<float>& b, int width, int height);
-double psnr(const std::vector<float>& a, const std::vector<float>& b);
+double ssim(std::span<const float> a, std::span<const float> b, int width, int height);
+double psnr(std::span<const float> a, std::span<const float> b);
 
 }  // namespace splat

@@ -31,7 +31,7 @@ std::vector<int32_t> sample_objects(const std::vector<int32_t>& present, int m,
   return out;
 }
 
-double object_loss(const std::vector<float>& maps, const std::vector<int32_t>& labels,
+double object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
                    const IdMap& ids, float weight, std::vector<float>* grad) {
   const size_t pixels = ids.ids.size(), m = labels.size();
   if (maps.size() != m * pixels) throw std::invalid_argument("object_loss: map sizes differ");

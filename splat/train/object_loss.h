@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -34,7 +35,7 @@ std::vector<int32_t> sample_objects(const std::vector<int32_t>& present, int m,
 // is not null it receives weight * dLoss/dS, same layout. S is clamped to
 // [1e-6, 1 - 1e-6] inside the logarithms, as a safeguard like torch's
 // clamped BCE.
-double object_loss(const std::vector<float>& maps, const std::vector<int32_t>& labels,
+double object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
                    const IdMap& ids, float weight, std::vector<float>* grad);
 
 }  // namespace splat

@@ -31,5 +31,20 @@ TEST(HugePageAllocator, SmallBuffersKeepTheirAlignmentAndGrow) {
   EXPECT_EQ(ints[123456], 123456);
 }
 
+TEST(ImageBuffer, IsCacheLineAlignedAtEverySize) {
+  // The renderer writes whole aligned cache lines of its outputs with
+  // streaming stores; a misaligned buffer would silently lose that.
+  for (size_t n : {size_t(1), size_t(1000), size_t(3) << 20}) {
+    ImageBuffer<float> image(n);
+    EXPECT_EQ(reinterpret_cast<uintptr_t>(image.data()) % 64, 0u) << n;
+  }
+}
+
+TEST(ImageBuffer, KeepsValuesItIsGiven) {
+  ImageBuffer<float> image(5, 2.5f);
+  image.resize(8, 1.f);
+  EXPECT_EQ(image, (ImageBuffer<float>{2.5f, 2.5f, 2.5f, 2.5f, 2.5f, 1.f, 1.f, 1.f}));
+}
+
 }  // namespace
 }  // namespace splat

@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <span>
 
 #include "splat/render/renderer.h"
 #include "tests/splat/render/reference_renderer.h"
@@ -14,8 +17,7 @@ using testing_scenes::random_scene;
 using testing_scenes::test_camera;
 
 // |fast - ref| <= 1e-5 relative, with a floor of 1e-5 for values near zero.
-void expect_close(const std::vector<float>& fast, const std::vector<double>& ref,
-                  const char* what) {
+void expect_close(std::span<const float> fast, const std::vector<double>& ref, const char* what) {
   ASSERT_EQ(fast.size(), ref.size()) << what;
   double worst = 0;
   size_t where = 0;
@@ -26,7 +28,7 @@ void expect_close(const std::vector<float>& fast, const std::vector<double>& ref
   EXPECT_LE(worst, 1e-5) << what << " at " << where << ": " << fast[where] << " vs " << ref[where];
 }
 
-void expect_same_labels(const std::vector<int32_t>& fast, const std::vector<int>& ref,
+void expect_same_labels(std::span<const int32_t> fast, const std::vector<int>& ref,
                         const char* what) {
   ASSERT_EQ(fast.size(), ref.size()) << what;
   size_t differ = 0;
@@ -98,6 +100,35 @@ TEST(Renderer, InstanceOnlyRenderGivesTheSameMaps) {
   const RenderOutput no_depth = CpuRenderer().render(m, cam, s);
   expect_same_masks(no_depth);
   EXPECT_TRUE(no_depth.depth.empty());
+}
+
+// Outputs are not cleared when they are reused or grow (ImageBuffer), so
+// every element must be written by every render: fill a reused output with
+// NaN and render into it again, with each kind of settings.
+TEST(Renderer, ReusedOutputIsWrittenEverywhere) {
+  const GaussianModel m = random_scene(250, 11, /*labels=*/5);
+  const Camera cam = test_camera(70, 45);  // partial tiles at the right and bottom
+  RenderSettings all_masks;
+  all_masks.color = all_masks.depth = false;
+  all_masks.all_instance_labels = true;
+  for (const RenderSettings& s : {full_settings(), all_masks}) {
+    const RenderOutput fresh = CpuRenderer().render(m, cam, s);
+    RenderOutput reused = fresh;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (auto* v : {&reused.color, &reused.alpha, &reused.depth, &reused.instance_maps})
+      std::fill(v->begin(), v->end(), nan);
+    std::fill(reused.contributors.begin(), reused.contributors.end(), 0xdeadbeefu);
+    for (auto* v : {&reused.instance_label, &reused.baseline_label})
+      std::fill(v->begin(), v->end(), -7);
+    CpuRenderer().render(m, cam, s, reused);
+    EXPECT_EQ(reused.color, fresh.color);
+    EXPECT_EQ(reused.alpha, fresh.alpha);
+    EXPECT_EQ(reused.depth, fresh.depth);
+    EXPECT_EQ(reused.contributors, fresh.contributors);
+    EXPECT_EQ(reused.instance_maps, fresh.instance_maps);
+    EXPECT_EQ(reused.instance_label, fresh.instance_label);
+    EXPECT_EQ(reused.baseline_label, fresh.baseline_label);
+  }
 }
 
 TEST(Renderer, NoGaussiansGivesBackground) {

@@ -38,7 +38,8 @@ TEST(ObjectLoss, GradientMatchesFiniteDifferences) {
 TEST(ObjectLoss, PerfectOccupancyHasNearZeroLoss) {
   IdMap ids(2, 1);
   ids.ids = {3, 0};
-  const double loss = object_loss({0.999999f, 0.f}, {3}, ids, 1, nullptr);
+  const std::vector<float> maps = {0.999999f, 0.f};
+  const double loss = object_loss(maps, {3}, ids, 1, nullptr);
   EXPECT_LT(loss, 1e-5);
 }
 
@@ -95,7 +96,8 @@ TEST(ObjectLoss, MislabelledFloaterLosesInstanceOpacityButKeepsItsColour) {
   colour.sh_degree = 0;
   const RenderOutput before = renderer.render(m, cam, colour);
   ImageRGB target(48, 48);
-  target.data = before.color;  // the colour is already right: only sigma* should move
+  target.data.assign(before.color.begin(),
+                     before.color.end());  // the colour is already right: only sigma* should move
   const float sigma_before = m.opacity_logits[2];
   const Eigen::Vector2d floater_pixel = cam.project({0.5, 0, 2});
   const size_t fp = size_t(floater_pixel.y()) * 48 + size_t(floater_pixel.x());
