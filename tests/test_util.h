@@ -1,5 +1,5 @@
 #pragma once
-// Helpers shared by the tests: a fresh temporary folder per test.
+// Helpers shared by the tests: temporary folders and small file I/O.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
+#include <vector>
 
 namespace testing_util {
 
@@ -30,6 +32,24 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+// A folder shared by the tests of one process (a scene generated once), under
+// the system temp dir, removed when the process exits.
+inline std::filesystem::path process_temp_dir(const std::string& name) {
+  struct RemovedAtExit {
+    std::vector<std::filesystem::path> paths;
+    ~RemovedAtExit() {
+      std::error_code ignored;
+      for (const auto& p : paths) std::filesystem::remove_all(p, ignored);
+    }
+  };
+  static RemovedAtExit folders;
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("op2gs_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  folders.paths.push_back(dir);
+  return dir;
+}
 
 inline void write_file(const std::filesystem::path& p, const std::string& bytes) {
   std::filesystem::create_directories(p.parent_path());

@@ -3,12 +3,11 @@
 // and 8 are the test views), 3,000 sparse points, generated into a
 // temporary folder of this process.
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <string>
 
 #include "eval/synthetic/generator.h"
+#include "tests/test_util.h"
 
 namespace testing_util {
 
@@ -22,10 +21,10 @@ inline synth::SynthOptions tiny_scene_options() {
   return o;
 }
 
-// <temp>/op2gs_<name>_<pid>, with the tiny scene generated into it.
+// <temp>/op2gs_<name>_<pid>, with the tiny scene generated into it; removed
+// when the process exits.
 inline std::filesystem::path generate_tiny_scene(const std::string& name) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("op2gs_" + name + "_" + std::to_string(::getpid()));
+  const std::filesystem::path dir = process_temp_dir(name);
   synth::generate_scene(tiny_scene_options(), dir, true);
   return dir;
 }

@@ -5,7 +5,6 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "eval/synthetic/generator.h"
 #include "splat/colmap_model.h"
@@ -32,7 +31,7 @@ struct SfmScene {
 };
 const SfmScene& sfm_scene() {
   static const SfmScene s = [] {
-    const fs::path d = fs::temp_directory_path() / ("op2gs_sfm_" + std::to_string(::getpid()));
+    const fs::path d = testing_util::process_temp_dir("sfm");
     synth::SynthOptions o;
     o.supersample = 2;
     o.ovs_dir = d / "ovs_all";
