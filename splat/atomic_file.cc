@@ -1,5 +1,6 @@
 #include "splat/atomic_file.h"
 
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -13,8 +14,8 @@ namespace fs = std::filesystem;
 
 fs::path temporary_path_for(const fs::path& target) {
   static std::atomic<unsigned> counter{0};
-  const std::string name = "." + target.stem().string() + ".tmp-" + std::to_string(::getpid()) +
-                           "-" + std::to_string(counter++) + target.extension().string();
+  const std::string name = fmt::format(".{}.tmp-{}-{}{}", target.stem().string(), ::getpid(),
+                                       counter++, target.extension().string());
   return target.parent_path() / name;
 }
 

@@ -187,8 +187,9 @@ TEST(SynthStage, RefusesToOverwriteWithoutForceAndRejectsBadOptions) {
   EXPECT_EQ(run("'" + out + "'" + small), 0);
   EXPECT_NE(run("'" + out + "'" + small), 0);
   EXPECT_EQ(run("'" + out + "'" + small + " --force"), 0);
-  EXPECT_NE(run("'" + (dir / "t").string() + "' --views 1"), 0);
-  EXPECT_NE(run("'" + (dir / "t").string() + "' --sam2-strength -1"), 0);
+  const std::string t = (dir / "t").string();
+  EXPECT_NE(run("'" + t + "' --views 1"), 0);
+  EXPECT_NE(run("'" + t + "' --sam2-strength -1"), 0);
   EXPECT_FALSE(fs::exists(dir / "t"));
 }
 

@@ -3,6 +3,7 @@
 
 #include "splat/sfm/alignment.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -41,7 +42,7 @@ TEST(Alignment, PoseAccuracyOfAMovedModelIsZero) {
     const Camera c = Camera::look_at(eye, {0, 0, 0}, Eigen::Vector3d::UnitY(), 10, 10, 10, 10);
     ColmapImage im;
     im.image_id = i;
-    im.name = "v" + std::to_string(i);
+    im.name = fmt::format("v{}", i);
     im.qvec = quaternion_from_rotation(c.R);
     im.tvec = c.t;
     truth.images[i] = im;
