@@ -8,6 +8,7 @@
 //   build/bench/eval_bench
 
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 
 #include <fstream>
 #include <random>
@@ -52,9 +53,8 @@ void write_predictions(const fs::path& folder, const std::string& stem, int w, i
 void write_query_answers(const fs::path& file, const std::vector<std::string>& queries) {
   std::string j = "{\"objects\": [1,2,3,4,5,6,7,8,9,10], \"queries\": [";
   for (size_t i = 0; i < queries.size(); ++i)
-    j += (i ? "," : "") + std::string("{\"query\": \"") + queries[i] +
-         "\", \"object\": " + std::to_string(1 + i % 10) +
-         ", \"similarity\": 0.3, \"similarities\": []}";
+    j += fmt::format(R"({}{{"query": "{}", "object": {}, "similarity": 0.3, "similarities": []}})",
+                     i ? "," : "", queries[i], 1 + i % 10);
   std::ofstream(file) << j << "]}";
 }
 
