@@ -189,6 +189,7 @@ void project_geometry(const float* means, const float* rotations, const float* l
 // culled Gaussian; its other fields are then meaningless.
 struct ExtentBatch {
   alignas(64) float sigma[kBatch];  // filled by the caller
+  alignas(64) float det[kBatch];    // of the 2D covariance, for the conic
   alignas(64) float ext_x[kBatch], ext_y[kBatch];
   alignas(64) int32_t radius[kBatch], x0[kBatch], y0[kBatch], x1[kBatch], y1[kBatch];
   alignas(64) int32_t visible[kBatch];
@@ -220,7 +221,7 @@ void project_extents(const GeometryBatch& g, int tiles_x, int tiles_y, ExtentBat
   // radius of 3e6 px, far past any image) so that the radius fits an int.
   // (A loop of its own: merged with the next, GCC turns the selects into
   // branches and vectorises neither.)
-  alignas(64) float sa[kBatch], sc[kBatch], sdet[kBatch], ssigma[kBatch], su[kBatch], sw[kBatch];
+  alignas(64) float sa[kBatch], sc[kBatch], ssigma[kBatch], su[kBatch], sw[kBatch];
   alignas(64) int32_t ok[kBatch];
 #pragma GCC ivdep
   for (int l = 0; l < kBatch; ++l) {
@@ -230,7 +231,7 @@ void project_extents(const GeometryBatch& g, int tiles_x, int tiles_y, ExtentBat
     ok[l] = keep ? 1 : 0;
     sa[l] = keep ? std::min(a, 1e12f) : 1.f;
     sc[l] = keep ? std::min(c, 1e12f) : 1.f;
-    sdet[l] = keep ? det : 1.f;
+    e.det[l] = keep ? det : 1.f;
     ssigma[l] = keep ? sigma : 1.f;
     su[l] = keep ? g.u[l] : 0.f;
     sw[l] = keep ? g.w[l] : 0.f;
@@ -239,7 +240,7 @@ void project_extents(const GeometryBatch& g, int tiles_x, int tiles_y, ExtentBat
   for (int l = 0; l < kBatch; ++l) {
     const float a = sa[l], c = sc[l];
     const float mid = 0.5f * (a + c);
-    const float lambda = mid + std::sqrt(std::max(0.1f, mid * mid - sdet[l]));
+    const float lambda = mid + std::sqrt(std::max(0.1f, mid * mid - e.det[l]));
     const int32_t radius = ceil_positive(3.f * std::sqrt(lambda));
     // The reference's tile rectangle, in its pixel coordinates (centres at integers).
     const float cu = su[l] - 0.5f, cw = sw[l] - 0.5f;
@@ -269,8 +270,7 @@ void project_extents(const GeometryBatch& g, int tiles_x, int tiles_y, ExtentBat
 // Stores Gaussian i from lane l of its batch, which is visible.
 void store_projected(const GaussianModel& m, const GeometryBatch& g, const ExtentBatch& e, int l,
                      size_t i, ProjectedGaussians& p) {
-  const float a = g.a[l], b = g.b[l], c = g.c[l];
-  const float det = a * c - b * b;
+  const float a = g.a[l], b = g.b[l], c = g.c[l], det = e.det[l];
   p.mean2d[2 * i] = g.u[l];
   p.mean2d[2 * i + 1] = g.w[l];
   p.conic[3 * i] = c / det;
