@@ -32,7 +32,10 @@ struct RenderSettings {
   // alpha*_i = min(0.99, sigma*_i G_i(v)), with T_i and early termination
   // from the colour branch.
   std::vector<int32_t> instance_labels;  // one map per label, in this order
-  bool all_instance_labels = false;      // one map per label 1..max label instead
+  // Instead: one map per label the model holds (> 0, ascending). Labels need
+  // not be contiguous (IDs of other mask tools, objects lost in training), so
+  // absent labels get no plane.
+  bool all_instance_labels = false;
   // Label of the Gaussian with the largest alpha*_i along the ray (up to
   // termination; only alpha*_i >= 1/255 counts, else 0).
   bool instance_label_map = false;

@@ -60,9 +60,13 @@ void plan_instance_maps(const GaussianModel& m, const RenderSettings& s, RasterS
   if (m.has_labels) std::copy(m.labels.begin(), m.labels.end(), st.labels.begin());
   out.instance_map_labels.clear();
   if (s.all_instance_labels) {
-    int32_t max_label = 0;
-    for (int32_t l : st.labels) max_label = std::max(max_label, l);
-    for (int32_t l = 1; l <= max_label; ++l) out.instance_map_labels.push_back(l);
+    std::vector<bool> present;
+    for (int32_t l : st.labels) {
+      if (size_t(l) >= present.size()) present.resize(size_t(l) + 1, false);
+      present[l] = true;
+    }
+    for (int32_t l = 1; l < int32_t(present.size()); ++l)
+      if (present[l]) out.instance_map_labels.push_back(l);
   } else {
     out.instance_map_labels = s.instance_labels;
   }

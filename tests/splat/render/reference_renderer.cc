@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 namespace splat::reference {
 
@@ -115,14 +116,14 @@ Output render(const Params& p, const Camera& cam, const RenderSettings& s) {
   const int W = cam.width, H = cam.height;
   const size_t pixels = size_t(W) * H;
   std::vector<Projected> proj(p.size());
-  int max_label = 0;
+  std::set<int32_t> labels;
   for (size_t i = 0; i < p.size(); ++i) {
     proj[i] = project(p, i, cam, s);
-    max_label = std::max(max_label, p.labels[i]);
+    if (p.labels[i] > 0) labels.insert(p.labels[i]);
   }
   Output o;
   if (s.all_instance_labels)
-    for (int l = 1; l <= max_label; ++l) o.map_labels.push_back(l);
+    o.map_labels.assign(labels.begin(), labels.end());
   else
     o.map_labels.assign(s.instance_labels.begin(), s.instance_labels.end());
   o.color.assign(3 * pixels, 0);

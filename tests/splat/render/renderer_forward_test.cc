@@ -79,6 +79,22 @@ TEST(Renderer, AllObjectMapsMatchReferenceAndSumToOccupancy) {
   expect_close(fast.instance_maps, ref.instance_maps, "all-object maps");
 }
 
+// Labels from other mask tools need not be contiguous: a plane per label the
+// model holds, none for the IDs in between.
+TEST(Renderer, AllObjectMapsSkipAbsentLabels) {
+  GaussianModel m = random_scene(250, 8, /*labels=*/3);
+  const int32_t sparse[] = {0, 7, 300, 65535};
+  for (int32_t& l : m.labels) l = sparse[l];
+  const Camera cam = test_camera();
+  RenderSettings s;
+  s.all_instance_labels = true;
+  const RenderOutput fast = CpuRenderer().render(m, cam, s);
+  const reference::Output ref = reference::render(reference::Params::from(m), cam, s);
+  EXPECT_EQ(fast.instance_map_labels, (std::vector<int32_t>{7, 300, 65535}));
+  EXPECT_EQ(fast.instance_maps.size(), 3u * cam.width * cam.height);
+  expect_close(fast.instance_maps, ref.instance_maps, "sparse-label maps");
+}
+
 TEST(Renderer, InstanceOnlyRenderGivesTheSameMaps) {
   const GaussianModel m = random_scene(250, 8);
   const Camera cam = test_camera();
