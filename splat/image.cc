@@ -8,6 +8,7 @@
 
 #include "splat/atomic_file.h"
 #include "splat/error.h"
+#include "splat/png_indexed.h"
 
 namespace splat {
 namespace fs = std::filesystem;
@@ -95,6 +96,7 @@ ImageRGB downscale_area(const ImageRGB& image, int factor) {
 }
 
 IdMap read_id_map(const fs::path& file) {
+  if (auto indexed = read_png_palette_indices(file)) return std::move(*indexed);
   auto in = open_input(file);
   const auto& spec = in->spec();
   if (spec.nchannels != 1)

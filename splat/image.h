@@ -49,9 +49,10 @@ ImageRGB downscale_area(const ImageRGB& image, int factor);
 // size is off by rounding, and for a maximum-width resolution option).
 ImageRGB resize_area(const ImageRGB& image, int width, int height);
 
-// ID maps are single-channel 8- or 16-bit PNGs (../shared/spec/inputs.md).
-// Anything with more than one channel, or not an integer type of 8/16 bits,
-// is rejected with an InputError naming the file.
+// ID maps are single-channel 8- or 16-bit PNGs (../shared/spec/inputs.md),
+// or palette PNGs whose indices are the IDs (SAM2's video tools write those;
+// see png_indexed.h). Anything with more than one channel, or not an integer
+// type of 8/16 bits, is rejected with an InputError naming the file.
 IdMap read_id_map(const std::filesystem::path& file);
 // Writes a single-channel PNG atomically with bits = 8 or 16; 8 bits requires
 // every ID <= 255.
