@@ -30,6 +30,9 @@ int main(int argc, char** argv) {
                  "fail when fewer than this share of the views register")
       ->capture_default_str();
   app.add_option("--threads", o.threads, "COLMAP threads (0: all cores)")->capture_default_str();
+  app.add_option("--id-map-dirs", o.id_map_dirs,
+                 "ID map folders in the scene, resampled with the images when they are undistorted")
+      ->capture_default_str();
   app.add_option("--colmap", o.colmap.binary, "the colmap binary")->capture_default_str();
   app.add_option("--import", import_model,
                  "import this COLMAP model folder (binary or text) instead of running SfM");

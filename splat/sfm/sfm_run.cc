@@ -17,6 +17,7 @@
 #include "splat/sfm/alignment.h"
 #include "splat/sfm/colmap_database.h"
 #include "splat/sfm/llff.h"
+#include "splat/sfm/undistort_id_maps.h"
 
 namespace splat {
 namespace fs = std::filesystem;
@@ -114,6 +115,25 @@ void link_user_files(const fs::path& user, const fs::path& scene, const std::str
     if (own.count(name) || fs::exists(fs::symlink_status(scene / name))) continue;
     fs::create_symlink(fs::absolute(f.path()), scene / name);
   }
+}
+
+// The ID maps of the user's photos, resampled as COLMAP undistorted the
+// photos (the undistorted views are cropped and re-centred). Always redone:
+// it is quick, and the user may have replaced the maps since the last run.
+void undistort_user_id_maps(const fs::path& user, const fs::path& scene,
+                            const ColmapModel& distorted, const SfmOptions& o) {
+  const ColmapModel undistorted = read_colmap_model(scene / "sparse" / "0");
+  for (const std::string& folder : o.id_map_dirs) {
+    if (!fs::is_directory(user / folder)) continue;
+    const size_t n = undistort_id_map_folder(user / folder, scene / folder, distorted, undistorted);
+    spdlog::info("{}/: {} ID maps undistorted with the images", folder, n);
+  }
+  for (const char* truth : {"test_mask", "segmentations"})
+    if (fs::exists(user / truth))
+      spdlog::warn(
+          "{}/ is linked as it is: its masks have the geometry of the original photos, "
+          "not of the undistorted views",
+          truth);
 }
 
 // Replaces `link` with a symbolic link to `target`.
@@ -293,6 +313,7 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
     write_colmap_model(read_colmap_model(und / "sparse"), sparse, ColmapFormat::kBinary);
     relink(und / "images", r.scene / "images");
   });
+  if (!is_pinhole(model)) undistort_user_id_maps(scene_dir, r.scene, model, o);
   link_user_files(scene_dir, r.scene, o.images_dir);
 
   json accuracy = nullptr;

@@ -8,9 +8,11 @@
 //   <out>/colmap.log              everything COLMAP printed
 //   <out>/undistorted/            COLMAP's undistorter output
 //   <out>/scene/                  the scene for the next stages: images/ and
-//                                 sparse/0/ (undistorted, PINHOLE), and links
-//                                 to the user's sam2/, images_train/,
-//                                 test_mask/ and other benchmark files
+//                                 sparse/0/ (undistorted, PINHOLE), sam2/
+//                                 (undistorted likewise, or linked when the
+//                                 cameras are pinholes already), and links
+//                                 to the user's images_train/, test_mask/
+//                                 and other benchmark files
 //   <out>/sfm.json                views registered and not, the model kept
 //
 // A rerun skips the steps that finished with the same inputs and options.
@@ -49,6 +51,9 @@ struct SfmOptions {
   // True cameras (a COLMAP model), if known: the pose accuracy after a
   // similarity alignment goes into sfm.json.
   std::filesystem::path truth;
+  // Folders of ID maps (<stem>.png) in the scene that are resampled with the
+  // images when COLMAP undistorts them, rather than linked as they are.
+  std::vector<std::string> id_map_dirs = {"sam2", "instance_gt"};
 
   void Check() const;  // throws std::invalid_argument
 };

@@ -9,6 +9,7 @@
 #include "eval/synthetic/generator.h"
 #include "splat/colmap_model.h"
 #include "splat/error.h"
+#include "splat/image.h"
 #include "splat/npy.h"
 #include "splat/sfm/alignment.h"
 #include "splat/sfm/sfm_run.h"
@@ -78,7 +79,13 @@ TEST(Sfm, RegistersEveryViewWithAccuratePosesAndReusesSteps) {
   for (const auto& [id, cam] : model.cameras) EXPECT_EQ(cam.model_id, 1);  // PINHOLE
   EXPECT_GT(model.points3d.size(), 100u);
   EXPECT_TRUE(fs::exists(r.scene / "images" / "frame_00000.png"));
-  EXPECT_TRUE(fs::exists(r.scene / "sam2" / "frame_00000.png"));  // linked from the user's scene
+  // The ID maps were undistorted with the images: same size, no longer a link.
+  EXPECT_FALSE(fs::is_symlink(r.scene / "sam2"));
+  for (const auto& [id, image] : model.images) {
+    const IdMap map = read_id_map(r.scene / "sam2" / image.name);
+    EXPECT_EQ(map.width, int(model.cameras.at(image.camera_id).width)) << image.name;
+    EXPECT_EQ(map.height, int(model.cameras.at(image.camera_id).height)) << image.name;
+  }
 
   const PoseAccuracy acc = pose_accuracy(model, read_colmap_model(sfm_scene().truth));
   EXPECT_EQ(acc.matched, kViews);

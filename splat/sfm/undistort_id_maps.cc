@@ -1,0 +1,163 @@
+#include "splat/sfm/undistort_id_maps.h"
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "splat/error.h"
+
+namespace splat {
+namespace fs = std::filesystem;
+
+namespace {
+
+// COLMAP's model IDs (splat/colmap_model.cc).
+enum Model {
+  kSimplePinhole = 0,
+  kPinhole = 1,
+  kSimpleRadial = 2,
+  kRadial = 3,
+  kOpenCv = 4,
+  kOpenCvFisheye = 5,
+  kFullOpenCv = 6,
+  kSimpleRadialFisheye = 8,
+  kRadialFisheye = 9,
+};
+
+// Models with one focal length list f, cx, cy first; the others fx, fy, cx, cy.
+bool has_single_focal(int model) {
+  return model == kSimplePinhole || model == kSimpleRadial || model == kRadial ||
+         model == kSimpleRadialFisheye || model == kRadialFisheye;
+}
+
+struct Intrinsics {
+  double fx, fy, cx, cy;
+  const double* k;  // the distortion parameters after them
+};
+
+Intrinsics intrinsics_of(const ColmapCamera& c) {
+  const auto info = camera_model_by_id(c.model_id);
+  if (!info || c.params.size() != size_t(info->num_params))
+    throw std::invalid_argument(fmt::format("camera {} has model {} with {} parameters",
+                                            c.camera_id, c.model_id, c.params.size()));
+  const double* p = c.params.data();
+  if (has_single_focal(c.model_id)) return {p[0], p[0], p[1], p[2], p + 3};
+  return {p[0], p[1], p[2], p[3], p + 4};
+}
+
+// Undistorted normalised (u, v) to distorted normalised coordinates.
+Eigen::Vector2d distort(int model, const double* k, double u, double v) {
+  const double u2 = u * u, v2 = v * v, uv = u * v, r2 = u2 + v2;
+  switch (model) {
+    case kSimplePinhole:
+    case kPinhole:
+      return {u, v};
+    case kSimpleRadial: {
+      const double s = 1 + k[0] * r2;
+      return {u * s, v * s};
+    }
+    case kRadial: {
+      const double s = 1 + k[0] * r2 + k[1] * r2 * r2;
+      return {u * s, v * s};
+    }
+    case kOpenCv: {
+      const double s = 1 + k[0] * r2 + k[1] * r2 * r2;
+      return {u * s + 2 * k[2] * uv + k[3] * (r2 + 2 * u2),
+              v * s + 2 * k[3] * uv + k[2] * (r2 + 2 * v2)};
+    }
+    case kFullOpenCv: {
+      const double r4 = r2 * r2, r6 = r4 * r2;
+      const double s =
+          (1 + k[0] * r2 + k[1] * r4 + k[4] * r6) / (1 + k[5] * r2 + k[6] * r4 + k[7] * r6);
+      return {u * s + 2 * k[2] * uv + k[3] * (r2 + 2 * u2),
+              v * s + 2 * k[3] * uv + k[2] * (r2 + 2 * v2)};
+    }
+    case kOpenCvFisheye:
+    case kSimpleRadialFisheye:
+    case kRadialFisheye: {
+      const double r = std::sqrt(r2);
+      if (r < 1e-12) return {u, v};
+      const double t = std::atan(r), t2 = t * t;
+      double poly = 1;
+      if (model == kOpenCvFisheye)
+        poly += t2 * (k[0] + t2 * (k[1] + t2 * (k[2] + t2 * k[3])));
+      else if (model == kSimpleRadialFisheye)
+        poly += k[0] * t2;
+      else
+        poly += t2 * (k[0] + t2 * k[1]);
+      const double s = t * poly / r;
+      return {u * s, v * s};
+    }
+    default:
+      throw std::invalid_argument(fmt::format(
+          "camera model {} has no closed-form distortion: undistort the ID maps yourself, or "
+          "run SfM with --camera-model OPENCV",
+          camera_model_by_id(model) ? camera_model_by_id(model)->name : std::to_string(model)));
+  }
+}
+
+}  // namespace
+
+Eigen::Vector2d distorted_position(const ColmapCamera& distorted, const ColmapCamera& pinhole,
+                                   double x, double y) {
+  const Intrinsics p = intrinsics_of(pinhole), d = intrinsics_of(distorted);
+  const Eigen::Vector2d n = distort(distorted.model_id, d.k, (x - p.cx) / p.fx, (y - p.cy) / p.fy);
+  return {d.fx * n.x() + d.cx, d.fy * n.y() + d.cy};
+}
+
+IdMap undistort_id_map(const IdMap& map, const ColmapCamera& distorted,
+                       const ColmapCamera& pinhole) {
+  if (pinhole.model_id != kSimplePinhole && pinhole.model_id != kPinhole)
+    throw std::invalid_argument("undistort_id_map: the target camera must be a pinhole");
+  distorted_position(distorted, pinhole, 0, 0);  // throws for unsupported models
+  const int W = int(pinhole.width), H = int(pinhole.height);
+  // The map may be smaller or larger than the photos SAM2 ran on.
+  const double sx = double(map.width) / double(distorted.width);
+  const double sy = double(map.height) / double(distorted.height);
+  IdMap out(W, H);
+  tbb::parallel_for(0, H, [&](int y) {
+    for (int x = 0; x < W; ++x) {
+      const Eigen::Vector2d s = distorted_position(distorted, pinhole, x + 0.5, y + 0.5);
+      const double mx = std::floor(s.x() * sx), my = std::floor(s.y() * sy);
+      if (mx >= 0 && my >= 0 && mx < map.width && my < map.height)
+        out.ids[size_t(y) * W + x] = map.ids[size_t(my) * map.width + size_t(mx)];
+    }
+  });
+  return out;
+}
+
+size_t undistort_id_map_folder(const fs::path& from, const fs::path& to,
+                               const ColmapModel& distorted, const ColmapModel& undistorted) {
+  std::map<std::string, const ColmapImage*> before;
+  for (const auto& [id, image] : distorted.images) before[image.name] = &image;
+  fs::remove_all(to);
+  fs::create_directories(to);
+  for (const auto& f : fs::directory_iterator(from))
+    if (f.path().extension() != ".png")
+      fs::create_symlink(fs::absolute(f.path()), to / f.path().filename());
+  size_t written = 0;
+  for (const auto& [id, image] : undistorted.images) {
+    const fs::path stem = fs::path(image.name).stem();
+    const fs::path file = from / (stem.string() + ".png");
+    const auto it = before.find(image.name);
+    if (!fs::exists(file) || it == before.end()) continue;
+    IdMap map;
+    try {
+      map = undistort_id_map(read_id_map(file), distorted.cameras.at(it->second->camera_id),
+                             undistorted.cameras.at(image.camera_id));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(file, e.what());
+    }
+    const bool wide =
+        std::any_of(map.ids.begin(), map.ids.end(), [](uint16_t v) { return v > 255; });
+    write_id_map(to / (stem.string() + ".png"), map, wide ? 16 : 8);
+    ++written;
+  }
+  return written;
+}
+
+}  // namespace splat

@@ -1,0 +1,46 @@
+#pragma once
+// ID maps follow their images through COLMAP's undistorter. SAM2 runs on the
+// user's photos, so its ID maps have the photos' geometry; once COLMAP has
+// undistorted the photos into PINHOLE views (cropped and re-centred), every
+// map must be resampled the same way, or the labels of the voting and the
+// object loss land beside their objects. COLMAP's own undistorter blends
+// neighbouring pixels, which would invent IDs at object boundaries: here
+// each undistorted pixel takes the ID of the nearest distorted one.
+//
+// Conventions are COLMAP's: the centre of the top-left pixel is (0.5, 0.5),
+// and the distortion models map undistorted normalised coordinates to
+// distorted ones (COLMAP's src/base/camera_models.h).
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "splat/colmap_model.h"
+#include "splat/image.h"
+
+namespace splat {
+
+// Where the pixel position (x, y) of the undistorted PINHOLE camera falls in
+// the distorted camera, in the same continuous pixel coordinates. Throws
+// std::invalid_argument for a camera model without a closed-form distortion
+// (FOV, THIN_PRISM_FISHEYE).
+Eigen::Vector2d distorted_position(const ColmapCamera& distorted, const ColmapCamera& pinhole,
+                                   double x, double y);
+
+// The ID map of a view of `distorted` (the map may be of another size with
+// the same aspect ratio), resampled to the view of `pinhole` with
+// nearest-neighbour sampling; pixels that fall outside the map get 0.
+IdMap undistort_id_map(const IdMap& map, const ColmapCamera& distorted,
+                       const ColmapCamera& pinhole);
+
+// For every image of the undistorted model: reads <from>/<stem>.png, writes
+// the undistorted map to <to>/<stem>.png (8-bit, or 16-bit when an ID needs
+// it). Images without a map are skipped (the stages that read the maps report
+// them); other files of <from> (objects.json) are linked. Returns the number of
+// maps written. Throws InputError naming a map that cannot be read or whose
+// camera model cannot be undistorted.
+size_t undistort_id_map_folder(const std::filesystem::path& from, const std::filesystem::path& to,
+                               const ColmapModel& distorted, const ColmapModel& undistorted);
+
+}  // namespace splat

@@ -1,0 +1,172 @@
+// ID maps resampled as COLMAP undistorts the photos: checked against COLMAP's
+// own undistorter, run on an ID map saved as a photo.
+
+#include "splat/sfm/undistort_id_maps.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "splat/error.h"
+#include "splat/sfm/colmap_command.h"
+#include "tests/test_util.h"
+
+namespace splat {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_util::TempDir;
+
+// IDs 1.. in 16x16 blocks, so that most pixels lie far from a boundary.
+IdMap block_map(int width, int height, int block) {
+  IdMap map(width, height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      map.ids[size_t(y) * width + x] = uint16_t(1 + (x / block) + 11 * (y / block));
+  return map;
+}
+
+ColmapCamera camera(int model_id, int width, int height, std::vector<double> params) {
+  ColmapCamera c;
+  c.camera_id = 1;
+  c.model_id = model_id;
+  c.width = width;
+  c.height = height;
+  c.params = std::move(params);
+  return c;
+}
+
+// A one-view model of `cam` at the origin.
+ColmapModel one_view(const ColmapCamera& cam, const std::string& name) {
+  ColmapModel m;
+  m.cameras[cam.camera_id] = cam;
+  ColmapImage image;
+  image.image_id = 1;
+  image.camera_id = cam.camera_id;
+  image.name = name;
+  m.images[1] = image;
+  return m;
+}
+
+// A photo whose red channel is the column and green the row: COLMAP's
+// interpolated output then tells where it sampled each undistorted pixel.
+ImageRGB coordinate_photo(int width, int height) {
+  ImageRGB photo(width, height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      photo.pixel(x, y)[0] = float(x) / 255;
+      photo.pixel(x, y)[1] = float(y) / 255;
+      photo.pixel(x, y)[2] = 0;
+    }
+  return photo;
+}
+
+class AgainstColmap : public ::testing::TestWithParam<ColmapCamera> {};
+
+TEST_P(AgainstColmap, SamplesWhereColmapsUndistorterSamples) {
+  ColmapCommand colmap;
+  ASSERT_TRUE(colmap.available()) << "COLMAP is needed (scripts/setup.sh installs it)";
+  TempDir dir;
+  const ColmapCamera distorted = GetParam();
+  const int W = int(distorted.width), H = int(distorted.height);
+  write_image_rgb(dir / "images" / "view.png", coordinate_photo(W, H));
+  write_colmap_model(one_view(distorted, "view.png"), dir / "model", ColmapFormat::kText);
+  colmap.log_file = dir / "colmap.log";
+  colmap.run("undistortion", "image_undistorter",
+             {"--image_path", (dir / "images").string(), "--input_path", (dir / "model").string(),
+              "--output_path", (dir / "und").string(), "--output_type", "COLMAP"});
+  const ColmapModel und = read_colmap_model(dir / "und" / "sparse");
+  const ColmapCamera& pinhole = und.cameras.begin()->second;
+  const ImageRGB sampled = read_image_rgb(dir / "und" / "images" / "view.png");
+
+  // ID = column + 1: the nearest-neighbour result says which column we took.
+  IdMap columns(W, H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) columns.ids[size_t(y) * W + x] = uint16_t(x + 1);
+  const IdMap ours = undistort_id_map(columns, distorted, pinhole);
+  ASSERT_EQ(ours.width, sampled.width);
+  ASSERT_EQ(ours.height, sampled.height);
+
+  double sum_dx = 0, sum_dy = 0;
+  size_t n = 0, far_column = 0;
+  for (int y = 2; y < ours.height - 2; ++y)
+    for (int x = 2; x < ours.width - 2; ++x) {
+      const Eigen::Vector2d s = distorted_position(distorted, pinhole, x + 0.5, y + 0.5);
+      if (s.x() < 2 || s.y() < 2 || s.x() > W - 2 || s.y() > H - 2) continue;
+      // COLMAP interpolates with pixel centres at integers: column = x - 0.5.
+      const double colmap_x = 255 * sampled.pixel(x, y)[0], colmap_y = 255 * sampled.pixel(x, y)[1];
+      sum_dx += colmap_x - (s.x() - 0.5);
+      sum_dy += colmap_y - (s.y() - 0.5);
+      far_column += std::abs(ours.ids[size_t(y) * ours.width + x] - 1 - colmap_x) > 1.01;
+      ++n;
+    }
+  ASSERT_GT(n, size_t(ours.width) * ours.height / 2);
+  // Quantised to whole columns, so only the mean is sub-pixel; half a pixel
+  // of error (the usual pixel-centre mistake) would show as 0.5.
+  EXPECT_LT(std::abs(sum_dx / n), 0.05);
+  EXPECT_LT(std::abs(sum_dy / n), 0.05);
+  EXPECT_EQ(far_column, 0u) << "of " << n;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Models, AgainstColmap,
+    ::testing::Values(
+        camera(4, 200, 150, {160, 155, 101, 74, -0.25, 0.06, 0.003, -0.002}),  // OPENCV
+        camera(2, 200, 150, {160, 99, 76, 0.15}),                              // SIMPLE_RADIAL
+        camera(5, 200, 150, {120, 118, 100, 75, 0.05, -0.02, 0.01, -0.003})),  // OPENCV_FISHEYE
+    [](const auto& info) { return camera_model_by_id(info.param.model_id)->name; });
+
+TEST(UndistortIdMap, MapOfAnotherSizeIsScaledFirst) {
+  // No distortion and the same intrinsics: the identity, whatever the map's size.
+  const ColmapCamera cam = camera(4, 160, 120, {150, 150, 80, 60, 0, 0, 0, 0});
+  const ColmapCamera pinhole = camera(1, 160, 120, {150, 150, 80, 60});
+  const IdMap full = block_map(160, 120, 16);
+  EXPECT_EQ(undistort_id_map(full, cam, pinhole).ids, full.ids);
+  EXPECT_EQ(undistort_id_map(block_map(80, 60, 8), cam, pinhole).ids, full.ids);
+}
+
+TEST(UndistortIdMap, PixelsOutsideTheMapAreBackground) {
+  const ColmapCamera cam = camera(4, 100, 100, {100, 100, 50, 50, 0, 0, 0, 0});
+  const ColmapCamera wider = camera(1, 120, 100, {100, 100, 60, 50});  // 10 px more each side
+  const IdMap out = undistort_id_map(block_map(100, 100, 16), cam, wider);
+  EXPECT_EQ(out.ids[0], 0);
+  EXPECT_EQ(out.ids[9], 0);
+  EXPECT_EQ(out.ids[10], 1);
+  EXPECT_EQ(out.ids[119], 0);
+}
+
+TEST(UndistortIdMap, UnsupportedModelIsAnErrorNamingTheMap) {
+  TempDir dir;
+  const ColmapCamera fov = camera(7, 40, 30, {40, 40, 20, 15, 0.9});
+  write_id_map(dir / "sam2" / "v.png", block_map(40, 30, 8), 8);
+  const ColmapModel distorted = one_view(fov, "v.jpg");
+  const ColmapModel undistorted = one_view(camera(1, 40, 30, {40, 40, 20, 15}), "v.jpg");
+  try {
+    undistort_id_map_folder(dir / "sam2", dir / "out", distorted, undistorted);
+    FAIL() << "FOV was undistorted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("v.png"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("FOV"), std::string::npos) << e.what();
+  }
+}
+
+TEST(UndistortIdMap, FolderKeepsOtherFilesAndSkipsViewsWithoutMaps) {
+  TempDir dir;
+  write_id_map(dir / "sam2" / "a.png", block_map(40, 30, 8), 8);
+  testing_util::write_file(dir / "sam2" / "objects.json", "[]");
+  const ColmapCamera cam = camera(2, 40, 30, {40, 20, 15, 0.1});
+  ColmapModel distorted = one_view(cam, "a.jpg");
+  ColmapImage b = distorted.images.at(1);
+  b.image_id = 2;
+  b.name = "b.jpg";  // no map
+  distorted.images[2] = b;
+  ColmapModel undistorted = distorted;
+  undistorted.cameras[1] = camera(1, 38, 28, {40, 40, 19, 14});
+  EXPECT_EQ(undistort_id_map_folder(dir / "sam2", dir / "out", distorted, undistorted), 1u);
+  EXPECT_EQ(read_id_map(dir / "out" / "a.png").width, 38);
+  EXPECT_TRUE(fs::exists(dir / "out" / "objects.json"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "b.png"));
+}
+
+}  // namespace
+}  // namespace splat
