@@ -113,7 +113,12 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         camera(4, 200, 150, {160, 155, 101, 74, -0.25, 0.06, 0.003, -0.002}),  // OPENCV
         camera(2, 200, 150, {160, 99, 76, 0.15}),                              // SIMPLE_RADIAL
-        camera(5, 200, 150, {120, 118, 100, 75, 0.05, -0.02, 0.01, -0.003})),  // OPENCV_FISHEYE
+        camera(5, 200, 150, {120, 118, 100, 75, 0.05, -0.02, 0.01, -0.003}),   // OPENCV_FISHEYE
+        camera(3, 200, 150, {160, 99, 76, 0.12, -0.05}),                       // RADIAL
+        camera(6, 200, 150,
+               {160, 155, 101, 74, 0.1, -0.03, 0.002, 0.001, 0.01, 0.02, 0.005, 0.001}),
+        camera(8, 200, 150, {120, 100, 75, 0.04}),          // SIMPLE_RADIAL_FISHEYE
+        camera(9, 200, 150, {120, 100, 75, 0.04, -0.01})),  // RADIAL_FISHEYE
     [](const auto& info) { return camera_model_by_id(info.param.model_id)->name; });
 
 TEST(UndistortIdMap, MapOfAnotherSizeIsScaledFirst) {
