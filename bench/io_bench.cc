@@ -1,5 +1,5 @@
 // Throughput of the model and scene I/O on sizes users meet: PLY files of
-// 100k-1M Gaussians, COLMAP models of 100k points.
+// 100k-1M Gaussians, COLMAP models of 100k points, images and ID maps.
 //
 //   build/bench/io_bench --benchmark_counters_tabular=true
 
@@ -11,6 +11,7 @@
 #include "splat/colmap_model.h"
 #include "splat/image.h"
 #include "splat/ply.h"
+#include "splat/sfm/undistort_id_maps.h"
 
 namespace {
 
@@ -105,6 +106,34 @@ void BM_ImageReadPng(benchmark::State& state) {
   fs::remove_all(file.parent_path());
 }
 BENCHMARK(BM_ImageReadPng)->Unit(benchmark::kMillisecond);
+
+// An ID map like SAM2's at LERF-Mask's size: a dozen objects on background.
+splat::IdMap object_ids(int width, int height) {
+  splat::IdMap map(width, height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      map.ids[size_t(y) * width + x] = uint16_t((x / 240 + 6 * (y / 270)) % 13);
+  return map;
+}
+
+void BM_IdMapReadPng(benchmark::State& state) {
+  const fs::path file = bench_dir() / "m.png";
+  splat::write_id_map(file, object_ids(1440, 1080), 8);
+  for (auto _ : state) benchmark::DoNotOptimize(splat::read_id_map(file));
+  state.SetLabel("1440x1080 8-bit grey");
+  fs::remove_all(file.parent_path());
+}
+BENCHMARK(BM_IdMapReadPng)->Unit(benchmark::kMillisecond);
+
+// op2gs-sfm resamples every ID map when COLMAP undistorts the photos.
+void BM_IdMapUndistort(benchmark::State& state) {
+  splat::ColmapCamera distorted{1, 4, 1440, 1080, {1150, 1150, 720, 540, -0.1, 0.02, 0, 0}};
+  splat::ColmapCamera pinhole{1, 1, 1404, 1052, {1150, 1150, 702, 526}};
+  const splat::IdMap map = object_ids(1440, 1080);
+  for (auto _ : state) benchmark::DoNotOptimize(splat::undistort_id_map(map, distorted, pinhole));
+  state.SetLabel("1440x1080 OPENCV to PINHOLE");
+}
+BENCHMARK(BM_IdMapUndistort)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 
