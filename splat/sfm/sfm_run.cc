@@ -32,6 +32,12 @@ void SfmOptions::Check() const {
   if (!vocab_tree.empty() && !fs::is_regular_file(vocab_tree))
     throw InputError(vocab_tree, "vocabulary tree not found");
   if (threads < 0) throw std::invalid_argument("threads must be >= 0");
+  // Each is replaced inside <out>/scene/: a plain folder name, never a path.
+  for (const std::string& dir : id_map_dirs)
+    if (dir.empty() || dir == "." || dir == ".." || dir.find('/') != std::string::npos ||
+        dir == images_dir || dir == "sparse")
+      throw std::invalid_argument(
+          fmt::format("--id-map-dirs: '{}' is not a folder name of the scene", dir));
 }
 
 namespace {

@@ -34,8 +34,9 @@ Eigen::Vector2d distorted_position(const ColmapCamera& distorted, const ColmapCa
 IdMap undistort_id_map(const IdMap& map, const ColmapCamera& distorted,
                        const ColmapCamera& pinhole);
 
-// For every image of the undistorted model: reads <from>/<stem>.png, writes
-// the undistorted map to <to>/<stem>.png (8-bit, or 16-bit when an ID needs
+// Replaces the folder <to> (its old content is removed). For every image of
+// the undistorted model: reads <from>/<stem>.png, writes the undistorted map
+// to <to>/<stem>.png (8-bit, or 16-bit when an ID needs
 // it). Images without a map are skipped (the stages that read the maps report
 // them); other files of <from> (objects.json) are linked. Returns the number of
 // maps written. Throws InputError naming a map that cannot be read or whose

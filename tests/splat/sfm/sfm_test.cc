@@ -139,6 +139,19 @@ TEST(Sfm, MissingColmapSaysHowToInstallIt) {
   }
 }
 
+// The ID map folders are replaced inside the output scene: anything but a
+// plain folder name could point elsewhere.
+TEST(Sfm, IdMapFoldersMustBePlainNames) {
+  for (const char* bad : {"", ".", "..", "/", "../sam2", "a/b", "images", "sparse"}) {
+    SfmOptions o;
+    o.id_map_dirs = {"sam2", bad};
+    EXPECT_THROW(o.Check(), std::invalid_argument) << "'" << bad << "'";
+  }
+  SfmOptions o;
+  o.id_map_dirs = {"sam2", "masks_v2"};
+  EXPECT_NO_THROW(o.Check());
+}
+
 TEST(Sfm, TooFewImagesIsAnInputError) {
   TempDir scene, out;
   testing_util::write_file(scene / "images/a.png", "x");
