@@ -100,20 +100,37 @@ Eigen::Vector2d distort(int model, const double* k, double u, double v) {
   }
 }
 
+// Pixel positions of the undistorted pinhole view to the distorted view, with
+// both cameras' parameters looked up once rather than for every pixel.
+class PinholeToDistorted {
+ public:
+  PinholeToDistorted(const ColmapCamera& distorted, const ColmapCamera& pinhole)
+      : model_(distorted.model_id), p_(intrinsics_of(pinhole)), d_(intrinsics_of(distorted)) {
+    (*this)(0, 0);  // throws here for a model without a closed-form distortion
+  }
+
+  Eigen::Vector2d operator()(double x, double y) const {
+    const Eigen::Vector2d n = distort(model_, d_.k, (x - p_.cx) / p_.fx, (y - p_.cy) / p_.fy);
+    return {d_.fx * n.x() + d_.cx, d_.fy * n.y() + d_.cy};
+  }
+
+ private:
+  int model_;
+  Intrinsics p_, d_;
+};
+
 }  // namespace
 
 Eigen::Vector2d distorted_position(const ColmapCamera& distorted, const ColmapCamera& pinhole,
                                    double x, double y) {
-  const Intrinsics p = intrinsics_of(pinhole), d = intrinsics_of(distorted);
-  const Eigen::Vector2d n = distort(distorted.model_id, d.k, (x - p.cx) / p.fx, (y - p.cy) / p.fy);
-  return {d.fx * n.x() + d.cx, d.fy * n.y() + d.cy};
+  return PinholeToDistorted(distorted, pinhole)(x, y);
 }
 
 IdMap undistort_id_map(const IdMap& map, const ColmapCamera& distorted,
                        const ColmapCamera& pinhole) {
   if (pinhole.model_id != kSimplePinhole && pinhole.model_id != kPinhole)
     throw std::invalid_argument("undistort_id_map: the target camera must be a pinhole");
-  distorted_position(distorted, pinhole, 0, 0);  // throws for unsupported models
+  const PinholeToDistorted to_distorted(distorted, pinhole);
   const int W = int(pinhole.width), H = int(pinhole.height);
   // The map may be smaller or larger than the photos SAM2 ran on.
   const double sx = double(map.width) / double(distorted.width);
@@ -121,7 +138,7 @@ IdMap undistort_id_map(const IdMap& map, const ColmapCamera& distorted,
   IdMap out(W, H);
   tbb::parallel_for(0, H, [&](int y) {
     for (int x = 0; x < W; ++x) {
-      const Eigen::Vector2d s = distorted_position(distorted, pinhole, x + 0.5, y + 0.5);
+      const Eigen::Vector2d s = to_distorted(x + 0.5, y + 0.5);
       const double mx = std::floor(s.x() * sx), my = std::floor(s.y() * sy);
       if (mx >= 0 && my >= 0 && mx < map.width && my < map.height)
         out.ids[size_t(y) * W + x] = map.ids[size_t(my) * map.width + size_t(mx)];
