@@ -1,9 +1,10 @@
 # Your own photos: DATA_ROOT holds one folder per scene, each with images/ and
 # sam2/ (one ID map per image, ../shared/spec/inputs.md); a COLMAP model in
-# sparse/0/ is used when present, else op2gs-sfm makes one. There is no ground
-# truth, so the run ends with the renders and masks, and, given queries
-# (QUERIES="red chair;lamp" for every scene, or QUERIES_<scene>), the objects
-# they select (<work>/<scene>/query/query.json).
+# sparse/0/ is used when present (undistorted first if its cameras have
+# distortion, as COLMAP's default SIMPLE_RADIAL has), else op2gs-sfm makes
+# one. There is no ground truth, so the run ends with the renders and masks,
+# and, given queries (QUERIES="red chair;lamp" for every scene, or
+# QUERIES_<scene>), the objects they select (<work>/<scene>/query/query.json).
 
 SCENES ?= $(foreach d,$(wildcard $(DATA_ROOT)/*/images),$(notdir $(patsubst %/images,%,$(d))))
 QUERIES ?=

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 
 #include "splat/atomic_file.h"
@@ -113,9 +114,13 @@ bool is_pinhole(const ColmapModel& m) {
 
 // Links everything else the user's scene folder holds (ID maps, the
 // LERF-Mask and 3DOVS benchmark files) into the output scene, so the next
-// stages find it there.
-void link_user_files(const fs::path& user, const fs::path& scene, const std::string& images) {
-  const std::set<std::string> own = {images, "sparse", "images_2", "images_4", "images_8"};
+// stages find it there. The user's downscaled copies (images_2/ ...) are
+// linked only when the views were not undistorted: they have the photos'
+// geometry.
+void link_user_files(const fs::path& user, const fs::path& scene, const std::string& images,
+                     bool undistorted) {
+  std::set<std::string> own = {images, "sparse"};
+  if (undistorted) own.insert({"images_2", "images_4", "images_8"});
   for (const auto& f : fs::directory_iterator(user)) {
     const std::string name = f.path().filename().string();
     if (own.count(name) || fs::exists(fs::symlink_status(scene / name))) continue;
@@ -140,6 +145,18 @@ void undistort_user_id_maps(const fs::path& user, const fs::path& scene,
           "{}/ is linked as it is: its masks have the geometry of the original photos, "
           "not of the undistorted views",
           truth);
+}
+
+// A model given with --import: every image it names must be in the scene's
+// image folder, or the undistorter and the trainer would fail later.
+ColmapModel read_imported_model(const fs::path& model_dir, const fs::path& images) {
+  ColmapModel model = read_colmap_model(model_dir);
+  if (model.images.empty()) throw InputError(model_dir, "the model has no images");
+  for (const auto& [id, image] : model.images)
+    if (!fs::is_regular_file(images / image.name))
+      throw InputError(model_dir, fmt::format("image {} of the model is not in {}", image.name,
+                                              images.string()));
+  return model;
 }
 
 // Replaces `link` with a symbolic link to `target`.
@@ -175,14 +192,18 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
   SfmOptions o = options;
   fs::create_directories(out);
   o.colmap.log_file = out / "colmap.log";
+  const fs::path images = scene_dir / o.images_dir;
+  const std::vector<std::string> names = image_names(images);
+  // An imported pinhole model needs no COLMAP at all.
+  std::optional<ColmapModel> imported;
+  if (!o.import_model.empty()) imported = read_imported_model(o.import_model, images);
+  const bool needs_colmap = !imported || !is_pinhole(*imported);
   bool cuda = false;
-  if (!o.colmap.available(&cuda))
+  if (needs_colmap && !o.colmap.available(&cuda))
     throw ColmapError(
         fmt::format("`{}` does not run: install COLMAP with `apt-get install "
                     "colmap` (scripts/setup.sh does), or give its path with --colmap",
                     o.colmap.binary));
-  const fs::path images = scene_dir / o.images_dir;
-  const std::vector<std::string> names = image_names(images);
   const fs::path db = out / "database.db", raw = out / "sparse_raw", und = out / "undistorted";
   const bool gpu = want_gpu(o, cuda);
   const std::string use_gpu = gpu ? "1" : "0";
@@ -229,10 +250,9 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
       fmt::format("matcher {} overlap {} vocab {}\n", sequential ? "sequential" : "exhaustive",
                   o.sequential_overlap, o.vocab_tree.string());
 
-  if (!o.import_model.empty()) {
-    const ColmapModel imported = read_colmap_model(o.import_model);
+  if (imported) {
     fs::remove_all(raw);
-    write_colmap_model(imported, raw / "0", ColmapFormat::kBinary);
+    write_colmap_model(*imported, raw / "0", ColmapFormat::kBinary);
     fp += "import " + fs::absolute(o.import_model).string();
     redo = true;
   } else if (o.llff) {
@@ -292,7 +312,11 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
                r.models, r.models == 1 ? "" : "s", kept);
   if (!r.unregistered.empty()) spdlog::warn("not registered: {}", fmt::join(r.unregistered, ", "));
   const double share = double(r.registered) / double(r.views);
-  if (r.registered < 2 || share < o.min_registered_fraction)
+  // An imported model is the user's choice: fewer views is a warning only.
+  if (imported && r.registered >= 2 && share < o.min_registered_fraction)
+    spdlog::warn("the imported model holds {} of the {} images in {}", r.registered, r.views,
+                 images.string());
+  else if (r.registered < 2 || share < o.min_registered_fraction)
     throw ColmapError(
         fmt::format("only {} of {} views registered (minimum {:.0f}%); try "
                     "--matcher exhaustive, more overlapping photos, or known "
@@ -320,7 +344,12 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
     relink(und / "images", r.scene / "images");
   });
   if (!is_pinhole(model)) undistort_user_id_maps(scene_dir, r.scene, model, o);
-  link_user_files(scene_dir, r.scene, o.images_dir);
+  link_user_files(scene_dir, r.scene, o.images_dir, !is_pinhole(model));
+  // Said here, where the user's folder is named, rather than only by the
+  // later stages, which see the output scene.
+  if (!fs::exists(scene_dir / "sam2"))
+    spdlog::warn("{}: no sam2/ folder of ID maps; op2gs-vote and op2gs-learn need it",
+                 scene_dir.string());
 
   json accuracy = nullptr;
   if (!o.truth.empty()) {

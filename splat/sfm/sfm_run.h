@@ -15,6 +15,9 @@
 //                                 and other benchmark files
 //   <out>/sfm.json                views registered and not, the model kept
 //
+// With `import_model`, an existing model replaces the SfM steps: linked as it
+// is when its cameras are pinholes (no COLMAP needed), else undistorted.
+//
 // A rerun skips the steps that finished with the same inputs and options.
 
 #include <filesystem>

@@ -3,8 +3,8 @@
 # (SfM included), artifacts and metrics checked; a second make does nothing;
 # a changed stage option reruns that stage and those after it only; the
 # dataset definitions against folders that mimic LERF-Mask and 3DOVS; a scene
-# that lacks its ID maps fails its stage while the other scene of a -k run
-# goes on.
+# that lacks its ID maps fails its stage while the other scenes of a -k run
+# go on; a scene whose own COLMAP model has distortion is undistorted.
 # Usage: pipeline_test.sh BIN_DIR
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -79,17 +79,25 @@ fi
 grep -q "ramen/test_mask: queries differ from the dataset's list: missing: egg" "$tmp/check.log" ||
   { cat "$tmp/check.log"; fail "the check did not name the missing query"; }
 
-echo "-- a scene without ID maps fails its stage; the other scene goes on (-k)"
-for s in a b; do
+echo "-- photos: a scene without ID maps fails its stage and the others go on (-k);"
+echo "   a scene's own COLMAP model with distortion is undistorted before training"
+for s in a b c; do
   "$bin/op2gs-synth" "$tmp/photos/$s" --views 8 --width 96 --height 72 --supersample 1 \
     --points 500 >/dev/null 2>&1
 done
 rm -rf "$tmp/photos/b/sam2"
+sed -i 's/^1 PINHOLE \(.*\)$/1 OPENCV \1 -0.05 0.01 0 0/' "$tmp/photos/c/sparse/0/cameras.txt"
+grep -q "^1 OPENCV" "$tmp/photos/c/sparse/0/cameras.txt" || fail "could not give scene c distortion"
 photos=(DATASET=photos DATA_ROOT="$tmp/photos" WORK_ROOT="$tmp/prun" ITERATIONS=100 STAGE_ONE=100)
 if mk "${photos[@]}" -k vote > "$tmp/k.log" 2>&1; then fail "a scene without sam2/ passed"; fi
 [ -e "$tmp/prun/a/stamps/vote.done" ] || { tail -30 "$tmp/k.log"; fail "scene a did not finish"; }
 [ ! -e "$tmp/prun/b/stamps/vote.done" ] || fail "scene b's vote passed"
-grep -q "op2gs: b: stage vote failed (exit 1): .*/b/sam2: no ID map folder" "$tmp/k.log" ||
+[ -e "$tmp/prun/c/stamps/vote.done" ] || { tail -30 "$tmp/k.log"; fail "scene c (OPENCV model) did not finish"; }
+grep -q "sam2/: 8 ID maps undistorted" "$tmp/prun/c/logs/sfm.log" || fail "scene c's ID maps were not undistorted"
+[ -L "$tmp/prun/a/sfm/scene/sam2" ] || fail "scene a's ID maps were resampled, though its cameras are pinholes"
+grep -q "$tmp/photos/b: no sam2/ folder of ID maps" "$tmp/prun/b/logs/sfm.log" ||
+  fail "op2gs-sfm did not warn that scene b has no ID maps"
+grep -q "op2gs: b: stage vote failed (exit 1): .*/b/sfm/scene/sam2: no ID map folder" "$tmp/k.log" ||
   { tail -30 "$tmp/k.log"; fail "no clear failure line"; }
 grep "op2gs: b: stage vote failed" "$tmp/k.log"
 echo "PASS"

@@ -107,6 +107,81 @@ TEST(Sfm, ImportsAnExistingModel) {
   EXPECT_EQ(read_colmap_model(r.scene / "sparse" / "0"), read_colmap_model(sfm_scene().truth));
 }
 
+// A user's scene holding `model` in sparse/0/: its images and ID maps
+// (links to the synthetic scene's) and a downscaled copy images_2/.
+fs::path scene_with_model(const fs::path& dir, const ColmapModel& model) {
+  const fs::path full = sfm_scene().truth.parent_path().parent_path();
+  for (const auto& [id, image] : model.images)
+    for (const char* folder : {"images", "sam2"}) {
+      fs::create_directories(dir / folder);
+      fs::create_symlink(full / folder / image.name, dir / folder / image.name);
+    }
+  testing_util::write_file(dir / "images_2" / "frame_00000.png", "x");
+  write_colmap_model(model, dir / "sparse" / "0", ColmapFormat::kText);
+  return dir;
+}
+
+// The true model restricted to the 12 views of the SfM scene.
+ColmapModel truth_of_first_views() {
+  ColmapModel model = read_colmap_model(sfm_scene().truth);
+  std::erase_if(model.images, [](const auto& kv) { return kv.second.name >= "frame_00012.png"; });
+  return model;
+}
+
+TEST(Sfm, ImportedPinholeModelNeedsNoColmapAndKeepsTheUsersFiles) {
+  TempDir user, out;
+  const ColmapModel model = truth_of_first_views();
+  const fs::path scene = scene_with_model(user.path(), model);
+  SfmOptions o;
+  o.import_model = scene / "sparse" / "0";
+  o.colmap.binary = "/nonexistent/colmap";
+  const SfmResult r = run_sfm(scene, out.path(), o);
+  EXPECT_EQ(r.registered, kViews);
+  EXPECT_EQ(read_colmap_model(r.scene / "sparse" / "0"), model);
+  // Nothing was resampled, so the ID maps and the downscaled copies are the user's.
+  EXPECT_TRUE(fs::is_symlink(r.scene / "sam2"));
+  EXPECT_TRUE(fs::is_symlink(r.scene / "images_2"));
+}
+
+TEST(Sfm, ImportedDistortedModelIsUndistorted) {
+  TempDir user, out;
+  ColmapModel model = truth_of_first_views();
+  for (auto& [id, cam] : model.cameras) {
+    cam.model_id = 4;  // OPENCV: fx fy cx cy k1 k2 p1 p2
+    cam.params.insert(cam.params.end(), {-0.08, 0.01, 0.0, 0.0});
+  }
+  const fs::path scene = scene_with_model(user.path(), model);
+  SfmOptions o;
+  o.import_model = scene / "sparse" / "0";
+  const SfmResult r = run_sfm(scene, out.path(), o);
+  const ColmapModel undistorted = read_colmap_model(r.scene / "sparse" / "0");
+  ASSERT_EQ(undistorted.images.size(), kViews);
+  for (const auto& [id, cam] : undistorted.cameras) EXPECT_EQ(cam.model_id, 1);  // PINHOLE
+  EXPECT_FALSE(fs::is_symlink(r.scene / "sam2"));
+  for (const auto& [id, image] : undistorted.images) {
+    const ColmapCamera& cam = undistorted.cameras.at(image.camera_id);
+    const IdMap map = read_id_map(r.scene / "sam2" / image.name);
+    EXPECT_EQ(map.width, int(cam.width)) << image.name;
+    EXPECT_EQ(map.height, int(cam.height)) << image.name;
+  }
+  // The user's downscaled photos keep the distortion: not linked.
+  EXPECT_FALSE(fs::exists(fs::symlink_status(r.scene / "images_2")));
+}
+
+TEST(Sfm, ImportedModelNamingAMissingImageIsAnInputError) {
+  TempDir user, out;
+  const fs::path scene = scene_with_model(user.path(), truth_of_first_views());
+  fs::remove(scene / "images" / "frame_00003.png");
+  SfmOptions o;
+  o.import_model = scene / "sparse" / "0";
+  try {
+    run_sfm(scene, out.path(), o);
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("frame_00003.png"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Sfm, LlffCamerasAreKeptAndPointsTriangulated) {
   TempDir out;
   SfmOptions o;
