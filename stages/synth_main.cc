@@ -41,6 +41,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--sam2-blobs", o.sam2.spurious_blobs, "mean spurious blobs per view")
       ->capture_default_str();
+  app.add_option("--sam2-persistence", o.sam2.persistence_views,
+                 "mean run of consecutive views over which a miss or leak persists "
+                 "(1: independent per view)")
+      ->capture_default_str();
   app.add_flag("--force", force, "replace an existing output folder");
   return stages::run_stage(app, argc, argv, [&] {
     o.write_sparse = !no_sparse;

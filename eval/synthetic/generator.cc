@@ -290,7 +290,8 @@ void write_layout(const fs::path& dir, const SynthOptions& o, const SceneLayout&
                  {"leak_probability", o.sam2.leak_probability},
                  {"leak_radius", o.sam2.leak_radius},
                  {"spurious_blobs", o.sam2.spurious_blobs},
-                 {"spurious_radius", o.sam2.spurious_radius}}}};
+                 {"spurious_radius", o.sam2.spurious_radius},
+                 {"persistence_views", o.sam2.persistence_views}}}};
   splat::write_text_atomically(dir / "scene.json", meta.dump(2) + "\n");
 }
 
@@ -323,10 +324,8 @@ void generate_scene(const SynthOptions& o, const fs::path& out_dir, bool force) 
 
   std::vector<int> ids;
   for (const SceneObject& obj : layout.objects) ids.push_back(obj.id);
-  std::vector<splat::IdMap> sam2(r.instance_maps.size());
-  tbb::parallel_for(size_t(0), sam2.size(), [&](size_t i) {
-    sam2[i] = corrupt_like_sam2(r.instance_maps[i], ids, o.sam2, o.seed * 31337 + i);
-  });
+  const std::vector<splat::IdMap> sam2 =
+      corrupt_sequence_like_sam2(r.instance_maps, ids, o.sam2, o.seed);
 
   const fs::path abs_out = fs::absolute(out_dir).lexically_normal();
   const fs::path tmp = abs_out.parent_path() /

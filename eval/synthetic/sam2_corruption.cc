@@ -7,12 +7,16 @@
 #include <random>
 #include <stdexcept>
 
+#include <tbb/parallel_for.h>
+
 namespace synth {
 
 void Sam2CorruptionOptions::Check() const {
   for (double v : {strength, boundary_jitter_px, miss_probability, miss_radius, leak_probability,
                    leak_radius, spurious_blobs, spurious_radius})
     if (!(v >= 0)) throw std::invalid_argument("SAM2 corruption values must be >= 0");
+  if (!(persistence_views >= 1))
+    throw std::invalid_argument("SAM2 error persistence must be >= 1 view");
 }
 
 namespace {
@@ -89,35 +93,35 @@ const T& pick(const std::vector<T>& v, Rng& rng) {
   return v[std::uniform_int_distribution<size_t>(0, v.size() - 1)(rng)];
 }
 
-}  // namespace
+double equivalent_radius(const ObjectPixels& px) { return std::sqrt(px.pixels.size() / M_PI); }
 
-splat::IdMap corrupt_like_sam2(const splat::IdMap& truth, const std::vector<int>& object_ids,
-                               const Sam2CorruptionOptions& o, uint64_t seed) {
-  o.Check();
-  splat::IdMap map = truth;
-  if (o.strength == 0) return map;
-  Rng rng(seed);
+// Erases a disc of the object around pixel `centre`; `size` in [0.6, 1.4]
+// scales the radius.
+void miss_part(splat::IdMap& map, int id, const ObjectPixels& px, int centre, double size,
+               const Sam2CorruptionOptions& o) {
+  paint_disc(map, centre % map.width, centre / map.width,
+             std::max(1.5, o.miss_radius * equivalent_radius(px) * size), 0, id, -1);
+}
+
+// The pixels a leak starts from: the object's edge with another object, else
+// with the background.
+const std::vector<int>& leak_edge(const ObjectPixels& px) {
+  return px.boundary_to_object.empty() ? px.boundary_to_background : px.boundary_to_object;
+}
+
+// Spills the object over a disc around edge pixel `centre`.
+void leak_part(splat::IdMap& map, int id, const ObjectPixels& px, int centre, double size,
+               const Sam2CorruptionOptions& o) {
+  paint_disc(map, centre % map.width, centre / map.width,
+             std::max(2.0, o.leak_radius * equivalent_radius(px) * size), id, -1, id);
+}
+
+// Stray blobs of random IDs, then the boundary jitter: the errors that do not
+// carry over from view to view.
+void blobs_and_jitter(splat::IdMap& map, const std::vector<int>& object_ids,
+                      const Sam2CorruptionOptions& o, Rng& rng) {
   std::uniform_real_distribution<double> u01(0, 1);
   const double s = o.strength;
-  const auto objects = collect(truth);
-
-  for (const auto& [id, px] : objects) {
-    const double radius = std::sqrt(px.pixels.size() / M_PI);
-    if (u01(rng) < std::min(1.0, s * o.miss_probability)) {
-      const int c = pick(px.pixels, rng);
-      paint_disc(map, c % map.width, c / map.width,
-                 std::max(1.5, o.miss_radius * radius * (0.6 + 0.8 * u01(rng))), 0, id, -1);
-    }
-    if (u01(rng) < std::min(1.0, s * o.leak_probability)) {
-      const auto& edge =
-          px.boundary_to_object.empty() ? px.boundary_to_background : px.boundary_to_object;
-      if (!edge.empty()) {
-        const int c = pick(edge, rng);
-        paint_disc(map, c % map.width, c / map.width,
-                   std::max(2.0, o.leak_radius * radius * (0.6 + 0.8 * u01(rng))), id, -1, id);
-      }
-    }
-  }
   if (!object_ids.empty()) {
     const int blobs = std::poisson_distribution<int>(s * o.spurious_blobs)(rng);
     const double diag = std::hypot(map.width, map.height);
@@ -129,7 +133,120 @@ splat::IdMap corrupt_like_sam2(const splat::IdMap& truth, const std::vector<int>
     }
   }
   jitter_boundaries(map, s * o.boundary_jitter_px, rng);
+}
+
+// A miss or a leak that lasts over a run of views: where it sits relative to
+// the object's bounding box, and its size, stay the same while the object
+// moves in the image, as a part SAM2 lost stays lost.
+struct PersistentError {
+  bool active = false;
+  double fx = 0, fy = 0;  // position in the object's bounding box, [0, 1]
+  double size = 1;
+};
+
+struct ObjectErrors {
+  PersistentError miss, leak;
+};
+
+// Of `candidates`, the pixel nearest to the point (fx, fy) of the bounding
+// box of the object's pixels.
+int nearest_to_box_point(const splat::IdMap& map, const ObjectPixels& px,
+                         const std::vector<int>& candidates, double fx, double fy) {
+  int x0 = map.width, y0 = map.height, x1 = -1, y1 = -1;
+  for (int i : px.pixels) {
+    x0 = std::min(x0, i % map.width), x1 = std::max(x1, i % map.width);
+    y0 = std::min(y0, i / map.width), y1 = std::max(y1, i / map.width);
+  }
+  const double tx = x0 + fx * (x1 - x0), ty = y0 + fy * (y1 - y0);
+  int best = candidates.front();
+  double best_d = 1e300;
+  for (int i : candidates) {
+    const double d = std::hypot(i % map.width - tx, i / map.width - ty);
+    if (d < best_d) best_d = d, best = i;
+  }
+  return best;
+}
+
+}  // namespace
+
+splat::IdMap corrupt_like_sam2(const splat::IdMap& truth, const std::vector<int>& object_ids,
+                               const Sam2CorruptionOptions& o, uint64_t seed) {
+  o.Check();
+  splat::IdMap map = truth;
+  if (o.strength == 0) return map;
+  Rng rng(seed);
+  std::uniform_real_distribution<double> u01(0, 1);
+  const double s = o.strength;
+  for (const auto& [id, px] : collect(truth)) {
+    if (u01(rng) < std::min(1.0, s * o.miss_probability)) {
+      const int centre = pick(px.pixels, rng);
+      miss_part(map, id, px, centre, 0.6 + 0.8 * u01(rng), o);
+    }
+    if (u01(rng) < std::min(1.0, s * o.leak_probability) && !leak_edge(px).empty()) {
+      const int centre = pick(leak_edge(px), rng);
+      leak_part(map, id, px, centre, 0.6 + 0.8 * u01(rng), o);
+    }
+  }
+  blobs_and_jitter(map, object_ids, o, rng);
   return map;
+}
+
+std::vector<splat::IdMap> corrupt_sequence_like_sam2(const std::vector<splat::IdMap>& truth,
+                                                     const std::vector<int>& object_ids,
+                                                     const Sam2CorruptionOptions& o,
+                                                     uint64_t seed) {
+  o.Check();
+  std::vector<splat::IdMap> out(truth.size());
+  const auto view_seed = [&](size_t i) { return seed * 31337 + i; };
+  if (o.persistence_views <= 1) {  // independent views
+    tbb::parallel_for(size_t(0), truth.size(), [&](size_t i) {
+      out[i] = corrupt_like_sam2(truth[i], object_ids, o, view_seed(i));
+    });
+    return out;
+  }
+  // Each object's misses and leaks, drawn at the start of each run of views.
+  // A run ends after each view with probability 1 / persistence_views, so
+  // runs last persistence_views views on average and every view still has a
+  // miss with probability strength * miss_probability, as without runs.
+  Rng rng(seed ^ 0x5a3d2c1bULL);
+  std::uniform_real_distribution<double> u01(0, 1);
+  const double s = o.strength;
+  const auto draw = [&](double probability) {
+    PersistentError e;
+    e.active = u01(rng) < std::min(1.0, s * probability);
+    e.fx = u01(rng), e.fy = u01(rng), e.size = 0.6 + 0.8 * u01(rng);
+    return e;
+  };
+  std::vector<std::map<int, ObjectErrors>> plan(truth.size());
+  for (int id : object_ids) {
+    ObjectErrors current;
+    for (size_t i = 0; i < truth.size(); ++i) {
+      if (i == 0 || u01(rng) < 1.0 / o.persistence_views)
+        current = {draw(o.miss_probability), draw(o.leak_probability)};
+      plan[i][id] = current;
+    }
+  }
+  tbb::parallel_for(size_t(0), truth.size(), [&](size_t i) {
+    splat::IdMap map = truth[i];
+    if (s > 0) {
+      for (const auto& [id, px] : collect(truth[i])) {
+        const auto it = plan[i].find(id);
+        if (it == plan[i].end()) continue;
+        const ObjectErrors& e = it->second;
+        if (e.miss.active)
+          miss_part(map, id, px, nearest_to_box_point(map, px, px.pixels, e.miss.fx, e.miss.fy),
+                    e.miss.size, o);
+        if (e.leak.active && !leak_edge(px).empty())
+          leak_part(map, id, px,
+                    nearest_to_box_point(map, px, leak_edge(px), e.leak.fx, e.leak.fy),
+                    e.leak.size, o);
+      }
+      Rng view_rng(view_seed(i));
+      blobs_and_jitter(map, object_ids, o, view_rng);
+    }
+    out[i] = std::move(map);
+  });
+  return out;
 }
 
 }  // namespace synth

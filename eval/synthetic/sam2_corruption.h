@@ -21,12 +21,25 @@ struct Sam2CorruptionOptions {
   double leak_radius = 0.3;         // spill radius, fraction of the equivalent radius
   double spurious_blobs = 1.5;      // mean number of stray blobs per view
   double spurious_radius = 0.012;   // stray blob radius, fraction of the image diagonal
+  // Mean length, in consecutive views, of the runs over which an object's miss
+  // or leak persists, as SAM2's video memory carries an error forward. 1:
+  // drawn independently for every view. The share of views with a miss or a
+  // leak does not depend on it; blobs and jitter are always per view.
+  double persistence_views = 1;
 
   void Check() const;  // throws std::invalid_argument for negative values
 };
 
-// object_ids: the IDs that exist in the scene (spurious blobs take one of them).
+// One view. object_ids: the IDs that exist in the scene (spurious blobs take
+// one of them). Ignores persistence_views.
 splat::IdMap corrupt_like_sam2(const splat::IdMap& truth, const std::vector<int>& object_ids,
                                const Sam2CorruptionOptions& options, uint64_t seed);
+
+// The views of a video in order; view i of an independent sequence
+// (persistence_views = 1) is corrupt_like_sam2(truth[i], ..., seed * 31337 + i).
+std::vector<splat::IdMap> corrupt_sequence_like_sam2(const std::vector<splat::IdMap>& truth,
+                                                     const std::vector<int>& object_ids,
+                                                     const Sam2CorruptionOptions& options,
+                                                     uint64_t seed);
 
 }  // namespace synth

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace synth {
 namespace {
 
@@ -94,6 +96,79 @@ TEST(Sam2Corruption, RejectsNegativeOptions) {
   Sam2CorruptionOptions o;
   o.miss_probability = -0.1;
   EXPECT_THROW(o.Check(), std::invalid_argument);
+  o = {};
+  o.persistence_views = 0.5;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
+}
+
+// How far the blocks of view i have moved right: a pixel a view, back to the
+// start every 16 views, so that they stay in the image.
+int shift(size_t i) { return int(i % 16); }
+
+// A video of `n` views of the moving blocks.
+std::vector<splat::IdMap> moving_blocks(int n) {
+  std::vector<splat::IdMap> views;
+  for (int i = 0; i < n; ++i) {
+    const splat::IdMap b = blocks();
+    splat::IdMap m(b.width, b.height);
+    for (int y = 0; y < b.height; ++y)
+      for (int x = 0; x + shift(i) < b.width; ++x) m.at(x + shift(i), y) = b.at(x, y);
+    views.push_back(m);
+  }
+  return views;
+}
+
+// Misses only: the pixels of object 1 that a view erased, in the object's
+// own frame (shifted back by the view's motion).
+std::vector<std::vector<bool>> erased_parts(const std::vector<splat::IdMap>& truth,
+                                            const std::vector<splat::IdMap>& corrupted) {
+  std::vector<std::vector<bool>> parts;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    std::vector<bool> erased(truth[i].ids.size(), false);
+    for (int y = 0; y < truth[i].height; ++y)
+      for (int x = shift(i); x < truth[i].width; ++x)
+        erased[y * truth[i].width + x - shift(i)] =
+            truth[i].at(x, y) == 1 && corrupted[i].at(x, y) == 0;
+    parts.push_back(erased);
+  }
+  return parts;
+}
+
+TEST(Sam2Corruption, IndependentSequenceIsViewByView) {
+  const auto truth = moving_blocks(4);
+  const Sam2CorruptionOptions o;
+  const auto seq = corrupt_sequence_like_sam2(truth, {1, 2, 3}, o, 7);
+  ASSERT_EQ(seq.size(), truth.size());
+  for (size_t i = 0; i < truth.size(); ++i)
+    EXPECT_EQ(seq[i].ids, corrupt_like_sam2(truth[i], {1, 2, 3}, o, 7 * 31337 + i).ids) << i;
+}
+
+TEST(Sam2Corruption, PersistentMissesFollowTheObjectOverRuns) {
+  const int n = 200;
+  const auto truth = moving_blocks(n);
+  Sam2CorruptionOptions o;
+  o.boundary_jitter_px = o.leak_probability = o.spurious_blobs = 0;
+  o.miss_probability = 0.3;
+  const auto count = [&](double persistence, size_t* missed_views, size_t* same_as_previous) {
+    o.persistence_views = persistence;
+    const auto parts = erased_parts(truth, corrupt_sequence_like_sam2(truth, {1, 2, 3}, o, 3));
+    *missed_views = *same_as_previous = 0;
+    for (int i = 0; i < n; ++i) {
+      const bool missed = std::count(parts[i].begin(), parts[i].end(), true) > 0;
+      *missed_views += missed;
+      *same_as_previous += missed && i > 0 && parts[i] == parts[i - 1];
+    }
+  };
+  size_t independent_missed, independent_same, persistent_missed, persistent_same;
+  count(1, &independent_missed, &independent_same);
+  count(10, &persistent_missed, &persistent_same);
+  // About 30% of the views miss a part either way...
+  EXPECT_NEAR(independent_missed / double(n), 0.3, 0.1);
+  EXPECT_NEAR(persistent_missed / double(n), 0.3, 0.15);
+  // ...but with runs of 10 views, most misses repeat the previous view's
+  // part exactly; independent ones never do.
+  EXPECT_EQ(independent_same, 0u);
+  EXPECT_GT(persistent_same, persistent_missed * 7 / 10);
 }
 
 }  // namespace
