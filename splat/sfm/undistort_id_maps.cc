@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <stdexcept>
 
@@ -114,6 +116,30 @@ class PinholeToDistorted {
     return {d_.fx * n.x() + d_.cx, d_.fy * n.y() + d_.cy};
   }
 
+  // The inverse: the pinhole position that maps to the distorted position
+  // (x, y), by Newton's method with a numerical Jacobian, as COLMAP
+  // undistorts points. NaN where it does not converge (outside the region in
+  // which the distortion is invertible).
+  Eigen::Vector2d inverse(double x, double y) const {
+    const Eigen::Vector2d target(x, y);
+    // The start: the same normalised position in the pinhole camera.
+    Eigen::Vector2d q(p_.fx * (x - d_.cx) / d_.fx + p_.cx, p_.fy * (y - d_.cy) / d_.fy + p_.cy);
+    constexpr double kStep = 1e-3;  // pixels, for the Jacobian's differences
+    for (int iteration = 0; iteration < 50; ++iteration) {
+      const Eigen::Vector2d residual = (*this)(q.x(), q.y()) - target;
+      if (residual.squaredNorm() < 1e-12) return q;
+      Eigen::Matrix2d jacobian;
+      jacobian.col(0) =
+          ((*this)(q.x() + kStep, q.y()) - (*this)(q.x() - kStep, q.y())) / (2 * kStep);
+      jacobian.col(1) =
+          ((*this)(q.x(), q.y() + kStep) - (*this)(q.x(), q.y() - kStep)) / (2 * kStep);
+      if (std::abs(jacobian.determinant()) < 1e-12) break;
+      q -= jacobian.inverse() * residual;
+      if (!q.allFinite()) break;
+    }
+    return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+  }
+
  private:
   int model_;
   Intrinsics p_, d_;
@@ -124,6 +150,31 @@ class PinholeToDistorted {
 Eigen::Vector2d distorted_position(const ColmapCamera& distorted, const ColmapCamera& pinhole,
                                    double x, double y) {
   return PinholeToDistorted(distorted, pinhole)(x, y);
+}
+
+Eigen::Vector2d undistorted_position(const ColmapCamera& distorted, const ColmapCamera& pinhole,
+                                     double x, double y) {
+  return PinholeToDistorted(distorted, pinhole).inverse(x, y);
+}
+
+std::vector<int64_t> photo_pixel_sources(const ColmapCamera& distorted, const ColmapCamera& pinhole,
+                                         int source_width, int source_height) {
+  if (pinhole.model_id != kSimplePinhole && pinhole.model_id != kPinhole)
+    throw std::invalid_argument("photo_pixel_sources: the source camera must be a pinhole");
+  const PinholeToDistorted to_distorted(distorted, pinhole);
+  const int W = int(distorted.width), H = int(distorted.height);
+  const double sx = double(source_width) / double(pinhole.width);
+  const double sy = double(source_height) / double(pinhole.height);
+  std::vector<int64_t> sources(size_t(W) * H, -1);
+  tbb::parallel_for(0, H, [&](int y) {
+    for (int x = 0; x < W; ++x) {
+      const Eigen::Vector2d q = to_distorted.inverse(x + 0.5, y + 0.5);
+      const double mx = std::floor(q.x() * sx), my = std::floor(q.y() * sy);
+      if (mx >= 0 && my >= 0 && mx < source_width && my < source_height)  // false for NaN
+        sources[size_t(y) * W + x] = int64_t(my) * source_width + int64_t(mx);
+    }
+  });
+  return sources;
 }
 
 IdMap undistort_id_map(const IdMap& map, const ColmapCamera& distorted,

@@ -12,6 +12,7 @@
 // distorted ones (COLMAP's src/base/camera_models.h).
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -27,6 +28,20 @@ namespace splat {
 // (FOV, THIN_PRISM_FISHEYE).
 Eigen::Vector2d distorted_position(const ColmapCamera& distorted, const ColmapCamera& pinhole,
                                    double x, double y);
+
+// The inverse of distorted_position: the position in the undistorted PINHOLE
+// camera of the distorted camera's pixel position (x, y). NaN where the
+// distortion cannot be inverted there (far outside a fisheye's image).
+Eigen::Vector2d undistorted_position(const ColmapCamera& distorted, const ColmapCamera& pinhole,
+                                     double x, double y);
+
+// The way back, for scoring undistorted renders against ground truth drawn on
+// the photos: for every pixel of the `distorted` camera (row-major), the
+// index of the nearest pixel of an image of the `pinhole` view at
+// source_width x source_height (the view's size or a downscaled one), or -1
+// where the photo sees what the undistorted view cropped away.
+std::vector<int64_t> photo_pixel_sources(const ColmapCamera& distorted, const ColmapCamera& pinhole,
+                                         int source_width, int source_height);
 
 // The ID map of a view of `distorted` (the map may be of another size with
 // the same aspect ratio), resampled to the view of `pinhole` with

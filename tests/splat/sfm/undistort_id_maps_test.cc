@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "splat/error.h"
 #include "splat/sfm/colmap_command.h"
@@ -61,23 +62,31 @@ ImageRGB coordinate_photo(int width, int height) {
   return photo;
 }
 
-class AgainstColmap : public ::testing::TestWithParam<ColmapCamera> {};
-
-TEST_P(AgainstColmap, SamplesWhereColmapsUndistorterSamples) {
+// COLMAP's undistorter run on the coordinate photo of `distorted`, in `dir`:
+// the PINHOLE camera it chose, and its output image.
+std::pair<ColmapCamera, ImageRGB> colmap_undistortion(const ColmapCamera& distorted,
+                                                      const fs::path& dir) {
   ColmapCommand colmap;
-  ASSERT_TRUE(colmap.available()) << "COLMAP is needed (scripts/setup.sh installs it)";
-  TempDir dir;
-  const ColmapCamera distorted = GetParam();
-  const int W = int(distorted.width), H = int(distorted.height);
-  write_image_rgb(dir / "images" / "view.png", coordinate_photo(W, H));
+  if (!colmap.available())
+    throw std::runtime_error("COLMAP is needed (scripts/setup.sh installs it)");
+  write_image_rgb(dir / "images" / "view.png",
+                  coordinate_photo(int(distorted.width), int(distorted.height)));
   write_colmap_model(one_view(distorted, "view.png"), dir / "model", ColmapFormat::kText);
   colmap.log_file = dir / "colmap.log";
   colmap.run("undistortion", "image_undistorter",
              {"--image_path", (dir / "images").string(), "--input_path", (dir / "model").string(),
               "--output_path", (dir / "und").string(), "--output_type", "COLMAP"});
   const ColmapModel und = read_colmap_model(dir / "und" / "sparse");
-  const ColmapCamera& pinhole = und.cameras.begin()->second;
-  const ImageRGB sampled = read_image_rgb(dir / "und" / "images" / "view.png");
+  return {und.cameras.begin()->second, read_image_rgb(dir / "und" / "images" / "view.png")};
+}
+
+class AgainstColmap : public ::testing::TestWithParam<ColmapCamera> {};
+
+TEST_P(AgainstColmap, SamplesWhereColmapsUndistorterSamples) {
+  TempDir dir;
+  const ColmapCamera distorted = GetParam();
+  const int W = int(distorted.width), H = int(distorted.height);
+  const auto [pinhole, sampled] = colmap_undistortion(distorted, dir.path());
 
   // ID = column + 1: the nearest-neighbour result says which column we took.
   IdMap columns(W, H);
@@ -106,6 +115,47 @@ TEST_P(AgainstColmap, SamplesWhereColmapsUndistorterSamples) {
   EXPECT_LT(std::abs(sum_dx / n), 0.05);
   EXPECT_LT(std::abs(sum_dy / n), 0.05);
   EXPECT_EQ(far_column, 0u) << "of " << n;
+}
+
+// Undistorted renders go back to the photos' geometry for scoring: the
+// inverse positions map forward onto the photo pixels they came from, and
+// an ID map undistorted and sent back is the original, away from the ID
+// boundaries (where nearest-neighbour sampling twice may move them a pixel).
+TEST_P(AgainstColmap, PhotoPixelSourcesInvertTheUndistortion) {
+  TempDir dir;
+  const ColmapCamera distorted = GetParam();
+  const int W = int(distorted.width), H = int(distorted.height);
+  const ColmapCamera pinhole = colmap_undistortion(distorted, dir.path()).first;
+  size_t inverted = 0;
+  for (int y = 0; y < H; y += 7)
+    for (int x = 0; x < W; x += 7) {
+      const Eigen::Vector2d q = undistorted_position(distorted, pinhole, x + 0.5, y + 0.5);
+      ASSERT_TRUE(q.allFinite()) << x << "," << y;
+      const Eigen::Vector2d p = distorted_position(distorted, pinhole, q.x(), q.y());
+      EXPECT_NEAR(p.x(), x + 0.5, 1e-5);
+      EXPECT_NEAR(p.y(), y + 0.5, 1e-5);
+      ++inverted;
+    }
+  EXPECT_GT(inverted, 500u);
+
+  const IdMap photo = block_map(W, H, 16);
+  const IdMap undistorted = undistort_id_map(photo, distorted, pinhole);
+  const std::vector<int64_t> sources =
+      photo_pixel_sources(distorted, pinhole, undistorted.width, undistorted.height);
+  ASSERT_EQ(sources.size(), size_t(W) * H);
+  size_t covered = 0, interior = 0, wrong = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const int64_t s = sources[size_t(y) * W + x];
+      if (s < 0) continue;
+      ++covered;
+      if (x % 16 < 3 || x % 16 > 12 || y % 16 < 3 || y % 16 > 12) continue;  // near a boundary
+      ++interior;
+      wrong += undistorted.ids[size_t(s)] != photo.ids[size_t(y) * W + x];
+    }
+  // COLMAP's undistorted view keeps most of the photo (it crops the rim).
+  EXPECT_GT(covered, size_t(W) * H / 2);
+  EXPECT_EQ(wrong, 0u) << "of " << interior;
 }
 
 INSTANTIATE_TEST_SUITE_P(
