@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "eval/metrics/ovs.h"
+#include "eval/metrics/photo_geometry.h"
 #include "eval/metrics/predictions.h"
 #include "splat/atomic_file.h"
 #include "splat/colmap_model.h"
@@ -134,6 +135,7 @@ EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const E
     scores["folder"] = p.folder.string();
     (mode == "oracle" ? results : query_results)[p.name] = scores;
   };
+  const PhotoGeometry photos(scene);
   if (o.predictions.empty()) {
     // Only image quality or poses.
   } else if ((r.protocol = protocol_of(scene, o.protocol)) != Protocol::kOvs) {
@@ -150,8 +152,10 @@ EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const E
       std::map<size_t, ObjectMasks> read;  // each view's predictions, read once for both modes
       const auto masks_of = [&](size_t k) {
         auto it = read.find(k);
-        if (it == read.end())
-          it = read.emplace(k, read_view_predictions(p.folder, gt.test_views[k])).first;
+        if (it == read.end()) {
+          const std::string& view = gt.test_views[k];
+          it = read.emplace(k, photos.to_photo(view, read_view_predictions(p.folder, view))).first;
+        }
         return it->second;
       };
       for (const auto& [mode, objects] : modes) {
@@ -171,7 +175,9 @@ EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const E
     for (size_t v : gt.views) views.push_back(gt.images[v]);
     for (const NamedPredictions& p : o.predictions)
       for (const auto& [mode, objects] : modes) {
-        const auto masks_of = [&](size_t i) { return read_view_predictions(p.folder, views[i]); };
+        const auto masks_of = [&](size_t i) {
+          return photos.to_photo(views[i], read_view_predictions(p.folder, views[i]));
+        };
         const OvsScore s =
             objects ? score_ovs_selected(gt, *objects, masks_of) : score_ovs_oracle(gt, masks_of);
         add_row(p, mode, s.miou, s.accuracy, ovs_json(gt, s));
@@ -191,6 +197,8 @@ EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const E
                                 {"rotation_error_deg", acc.rotation_error_deg}};
   }
   metrics["scene"] = scene.string();
+  metrics["mask_geometry"] =
+      photos.active() ? "photos (renders resampled from the undistorted views)" : "views";
   metrics["modes"] = o.query_results.empty() ? json{"oracle"} : json{"oracle", "query"};
   if (!o.predictions.empty()) metrics["results"] = results;
   if (!o.query_results.empty()) {

@@ -142,9 +142,16 @@ void undistort_user_id_maps(const fs::path& user, const fs::path& scene,
   for (const char* truth : {"test_mask", "segmentations"})
     if (fs::exists(user / truth))
       spdlog::warn(
-          "{}/ is linked as it is: its masks have the geometry of the original photos, "
-          "not of the undistorted views",
-          truth);
+          "{}/ is linked as it is: its masks have the geometry of the original photos; "
+          "op2gs-eval resamples the renders into it ({}/)",
+          truth, kPhotoCamerasDir);
+}
+
+// The cameras and poses of a model, without its points and observations.
+ColmapModel cameras_only(ColmapModel model) {
+  model.points3d.clear();
+  for (auto& [id, image] : model.images) image.points2d.clear(), image.point3d_ids.clear();
+  return model;
 }
 
 // A model given with --import: every image it names must be in the scene's
@@ -326,7 +333,8 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
   // Undistortion into PINHOLE, and the scene layout the trainer reads.
   r.scene = out / "scene";
   const fs::path sparse = r.scene / "sparse" / "0";
-  fp += fmt::format("kept {}\n", kept);
+  // "layout 2": the scene has photo_cameras/ (outputs of older versions lack it).
+  fp += fmt::format("kept {}\nlayout 2\n", kept);
   steps.run("undistortion", fp, redo, [&] {
     fs::remove_all(r.scene);
     fs::create_directories(sparse);
@@ -342,6 +350,7 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
          "--output_path", und.string(), "--output_type", "COLMAP"});
     write_colmap_model(read_colmap_model(und / "sparse"), sparse, ColmapFormat::kBinary);
     relink(und / "images", r.scene / "images");
+    write_colmap_model(cameras_only(model), r.scene / kPhotoCamerasDir, ColmapFormat::kBinary);
   });
   if (!is_pinhole(model)) undistort_user_id_maps(scene_dir, r.scene, model, o);
   link_user_files(scene_dir, r.scene, o.images_dir, !is_pinhole(model));

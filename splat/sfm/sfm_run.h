@@ -13,6 +13,10 @@
 //                                 cameras are pinholes already), and links
 //                                 to the user's images_train/, test_mask/
 //                                 and other benchmark files
+//   <out>/scene/photo_cameras/    when the photos were undistorted: their
+//                                 cameras (a COLMAP model without points),
+//                                 so that op2gs-eval can score renders
+//                                 against ground truth drawn on the photos
 //   <out>/sfm.json                views registered and not, the model kept
 //
 // With `import_model`, an existing model replaces the SfM steps: linked as it
@@ -27,6 +31,9 @@
 #include "splat/sfm/colmap_command.h"
 
 namespace splat {
+
+// The folder of <out>/scene that records the photos' cameras.
+inline constexpr char kPhotoCamerasDir[] = "photo_cameras";
 
 enum class SfmMatcher { kAuto, kExhaustive, kSequential };
 

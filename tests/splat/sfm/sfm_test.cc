@@ -141,6 +141,7 @@ TEST(Sfm, ImportedPinholeModelNeedsNoColmapAndKeepsTheUsersFiles) {
   // Nothing was resampled, so the ID maps and the downscaled copies are the user's.
   EXPECT_TRUE(fs::is_symlink(r.scene / "sam2"));
   EXPECT_TRUE(fs::is_symlink(r.scene / "images_2"));
+  EXPECT_FALSE(fs::exists(r.scene / kPhotoCamerasDir));  // the views are the photos
 }
 
 TEST(Sfm, ImportedDistortedModelIsUndistorted) {
@@ -166,6 +167,11 @@ TEST(Sfm, ImportedDistortedModelIsUndistorted) {
   }
   // The user's downscaled photos keep the distortion: not linked.
   EXPECT_FALSE(fs::exists(fs::symlink_status(r.scene / "images_2")));
+  // The photos' cameras, for scoring against ground truth drawn on them.
+  const ColmapModel photos = read_colmap_model(r.scene / kPhotoCamerasDir);
+  EXPECT_EQ(photos.cameras, model.cameras);
+  EXPECT_EQ(photos.images.size(), kViews);
+  EXPECT_TRUE(photos.points3d.empty());
 }
 
 TEST(Sfm, ImportedModelNamingAMissingImageIsAnInputError) {
