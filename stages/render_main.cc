@@ -30,6 +30,9 @@ int main(int argc, char** argv) {
   app.add_option("--tau", o.tau, "mask threshold on the occupancy S_j")->capture_default_str();
   app.add_flag("--occupancy", o.occupancy, "also write the occupancy maps as grey images");
   app.add_flag("--object-images", o.object_images, "also write each object's masked image");
+  app.add_flag("--photo-geometry", o.photo_geometry,
+               "also write masks and label maps in the geometry of the photos (photo/), when "
+               "op2gs-sfm undistorted them");
   app.add_option("--background", background, "background colour r g b in [0, 1]")->expected(3);
   app.add_option("--ply-object", ply_object, "write a PLY of this object only (to --ply-out)");
   app.add_option("--ply-without", ply_without, "write a PLY of the scene without this object");

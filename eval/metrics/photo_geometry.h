@@ -8,11 +8,10 @@
 // folder (pinhole photos, the public benchmarks) are scored as they are.
 
 #include <filesystem>
-#include <map>
 #include <string>
 
 #include "eval/metrics/lerf_mask.h"
-#include "splat/colmap_model.h"
+#include "splat/sfm/photo_cameras.h"
 
 namespace eval {
 
@@ -21,7 +20,7 @@ class PhotoGeometry {
   // Reads <scene>/photo_cameras/ and <scene>/sparse/0/ when the first exists.
   explicit PhotoGeometry(const std::filesystem::path& scene);
 
-  bool active() const { return !photo_.empty(); }
+  bool active() const { return !cameras_.empty(); }
 
   // The masks of the view with this image name, moved from the undistorted
   // view (at its size or a downscaled one) into the photo, at the photo's
@@ -29,8 +28,7 @@ class PhotoGeometry {
   ObjectMasks to_photo(const std::string& view_name, ObjectMasks masks) const;
 
  private:
-  // Image name -> the camera of that view, in each geometry.
-  std::map<std::string, splat::ColmapCamera> photo_, undistorted_;
+  splat::PhotoCameras cameras_;
 };
 
 }  // namespace eval

@@ -14,6 +14,8 @@
 #include "splat/label/palette.h"
 #include "splat/label/vote_run.h"
 #include "splat/render/renderer.h"
+#include "splat/sfm/photo_cameras.h"
+#include "splat/sfm/sfm_run.h"
 #include "splat/train/densify.h"
 
 namespace splat {
@@ -123,6 +125,30 @@ void write_shot(const fs::path& out, const Shot& shot, const RenderOutput& r,
   write_label_map(out / "baseline_labels", shot.stem, r.baseline_label, W, H);
 }
 
+// The masks and the instance label map of a shot, moved into the geometry of
+// its photo (--photo-geometry).
+void write_photo_shot(const fs::path& out, const Shot& shot, const std::string& image_name,
+                      const RenderOutput& r, const PhotoCameras& photos, float tau) {
+  const auto s = photos.sampling(image_name, r.width, r.height);
+  if (!s) {
+    spdlog::warn("{}: not among the photos' cameras; no photo-geometry masks", image_name);
+    return;
+  }
+  const size_t pixels = size_t(r.width) * r.height;
+  for (size_t m = 0; m < r.instance_map_labels.size(); ++m) {
+    const float* S = &r.instance_maps[m * pixels];
+    std::vector<uint8_t> inside(s->sources.size(), 0);
+    for (size_t i = 0; i < inside.size(); ++i)
+      if (s->sources[i] >= 0) inside[i] = S[s->sources[i]] > tau;
+    write_mask_png(out / "masks" / shot.stem / fmt::format("{}.png", r.instance_map_labels[m]),
+                   s->width, s->height, inside);
+  }
+  std::vector<int32_t> labels(s->sources.size(), 0);
+  for (size_t i = 0; i < labels.size(); ++i)
+    if (s->sources[i] >= 0) labels[i] = r.instance_label[s->sources[i]];
+  write_label_map(out / "instance_labels", shot.stem, labels, s->width, s->height);
+}
+
 double milliseconds_of(const std::function<void()>& f) {
   const auto t0 = std::chrono::steady_clock::now();
   f();
@@ -156,6 +182,11 @@ RenderTiming run_render(const fs::path& scene_dir, const fs::path& out, const Re
                  o.model.string());
   const auto scene = Scene::load(scene_dir, o.scene);
   const std::vector<Shot> shots = shots_of(*scene, o);
+  const PhotoCameras photos = o.photo_geometry ? PhotoCameras::load(scene_dir) : PhotoCameras{};
+  if (o.photo_geometry && photos.empty())
+    throw InputError(scene_dir / kPhotoCamerasDir,
+                     "no photos' cameras: op2gs-sfm records them when it undistorts the photos; "
+                     "without them the views are the photos");
   const CpuRenderer renderer;
 
   RenderSettings all;
@@ -179,6 +210,9 @@ RenderTiming run_render(const fs::path& scene_dir, const fs::path& out, const Re
   for (const Shot& shot : shots) {
     renderer.render(model, shot.camera, all, r);
     write_shot(out, shot, r, o);
+    if (o.photo_geometry && shot.view >= 0)
+      write_photo_shot(out / "photo", shot, scene->views()[size_t(shot.view)].name, r, photos,
+                       o.tau);
     // The paper's runtime comparison: the same view rendered three ways.
     timing.color_ms +=
         milliseconds_of([&] { renderer.render(model, shot.camera, color_only, scratch); });

@@ -14,6 +14,10 @@
 //   baseline_labels/<stem>.png     argmax alpha_i T_i label map (the
 //                                  ablation's baseline), and baseline_labels_color/
 //   timing.json                    mask rendering against colour rendering
+//   photo/masks/<stem>/<id>.png,   with --photo-geometry: the masks and the
+//   photo/instance_labels/<stem>.png  label map moved into the geometry of
+//                                  the view's photo (<scene>/photo_cameras/,
+//                                  which op2gs-sfm writes when it undistorts)
 //
 // and the object operations a single label per Gaussian allows: a PLY of one
 // object, or of the scene without it.
@@ -44,6 +48,9 @@ struct RenderRunOptions {
   bool occupancy = false;
   bool object_images = false;
   float background[3] = {0, 0, 0};
+  // Also write the masks and the instance label map of the scene's views in
+  // the geometry of their photos, to lay over the photos themselves.
+  bool photo_geometry = false;
   void Check() const;  // throws std::invalid_argument
 };
 

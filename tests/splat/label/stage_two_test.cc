@@ -11,12 +11,15 @@
 #include "eval/report/report.h"
 #include "eval/run/eval_run.h"
 #include "eval/synthetic/generator.h"
+#include "splat/colmap_model.h"
 #include "splat/error.h"
+#include "splat/image.h"
 #include "splat/label/render_run.h"
 #include "splat/label/vote_run.h"
 #include "splat/ply.h"
 #include "splat/query/embed_run.h"
 #include "splat/query/query_run.h"
+#include "splat/sfm/sfm_run.h"
 #include "splat/train/train_run.h"
 #include "tests/test_util.h"
 #include "tests/tiny_scene.h"
@@ -137,6 +140,50 @@ TEST(StageTwo, RendersMasksLabelMapsAndObjectModels) {
   EXPECT_GT(object.size(), 0u);
   EXPECT_EQ(object.size() + rest.size(), m.size());
   for (int32_t l : object.labels) EXPECT_EQ(l, 1);
+}
+
+// --photo-geometry moves the masks into the photos' cameras. Photos whose
+// OPENCV cameras have no distortion are the views themselves, so the moved
+// masks and label maps must be the rendered ones, pixel for pixel.
+TEST(StageTwo, PhotoGeometryMasksMatchTheViewsWhenThePhotosHaveNoDistortion) {
+  TempDir a;
+  fs::create_directories(a / "scene");
+  for (const auto& f : fs::directory_iterator(scene()))
+    fs::create_symlink(f.path(), a / "scene" / f.path().filename());
+  ColmapModel photos = read_colmap_model(scene() / "sparse/0");
+  for (auto& [id, cam] : photos.cameras) {
+    ASSERT_EQ(cam.model_id, 1);  // PINHOLE fx fy cx cy
+    cam.model_id = 4;            // OPENCV, k1 k2 p1 p2 = 0
+    cam.params.insert(cam.params.end(), {0, 0, 0, 0});
+  }
+  write_colmap_model(photos, a / "scene" / kPhotoCamerasDir, ColmapFormat::kBinary);
+
+  run_training(scene(), a / "learn", learn_options(320));
+  RenderRunOptions r;
+  r.model = a / "learn/checkpoints/latest.ckpt";
+  r.photo_geometry = true;
+  run_render(a / "scene", a / "render", r);
+  size_t compared = 0;
+  for (const char* stem : {"frame_00000", "frame_00008"}) {
+    for (const auto& f : fs::directory_iterator(a / "render/masks" / stem)) {
+      const fs::path moved = a / "render/photo/masks" / stem / f.path().filename();
+      ASSERT_TRUE(fs::exists(moved)) << moved;
+      EXPECT_EQ(testing_util::read_file(moved), testing_util::read_file(f.path())) << moved;
+      ++compared;
+    }
+    const std::string labels = std::string("instance_labels/") + stem + ".png";
+    EXPECT_EQ(read_id_map(a / "render/photo" / labels).ids, read_id_map(a / "render" / labels).ids);
+  }
+  EXPECT_GE(compared, 16u);
+
+  // Without the photos' cameras the option is an error naming the folder.
+  r.photo_geometry = true;
+  try {
+    run_render(scene(), a / "render2", r);
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(kPhotoCamerasDir), std::string::npos) << e.what();
+  }
 }
 
 // op2gs-embed, op2gs-query and the evaluation's query mode with the tiny CLIP
