@@ -27,10 +27,8 @@ ObjectMasks PhotoGeometry::to_photo(const std::string& view_name, ObjectMasks ma
       sampling = cameras_.sampling(view_name, mask.width, mask.height);
     }
     if (!sampling) return masks;  // not a view of both models
-    Mask moved(sampling->width, sampling->height);
-    for (size_t i = 0; i < sampling->sources.size(); ++i)
-      if (sampling->sources[i] >= 0) moved.on[i] = mask.on[size_t(sampling->sources[i])];
-    mask = std::move(moved);
+    mask.on = sampling->gather<uint8_t>(mask.on);
+    mask.width = sampling->width, mask.height = sampling->height;
   }
   return masks;
 }

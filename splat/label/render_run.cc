@@ -136,17 +136,15 @@ void write_photo_shot(const fs::path& out, const Shot& shot, const std::string& 
   }
   const size_t pixels = size_t(r.width) * r.height;
   for (size_t m = 0; m < r.instance_map_labels.size(); ++m) {
-    const float* S = &r.instance_maps[m * pixels];
-    std::vector<uint8_t> inside(s->sources.size(), 0);
-    for (size_t i = 0; i < inside.size(); ++i)
-      if (s->sources[i] >= 0) inside[i] = S[s->sources[i]] > tau;
+    const std::vector<float> S =
+        s->gather(std::span<const float>(&r.instance_maps[m * pixels], pixels));
+    std::vector<uint8_t> inside(S.size());
+    for (size_t i = 0; i < S.size(); ++i) inside[i] = S[i] > tau;
     write_mask_png(out / "masks" / shot.stem / fmt::format("{}.png", r.instance_map_labels[m]),
                    s->width, s->height, inside);
   }
-  std::vector<int32_t> labels(s->sources.size(), 0);
-  for (size_t i = 0; i < labels.size(); ++i)
-    if (s->sources[i] >= 0) labels[i] = r.instance_label[s->sources[i]];
-  write_label_map(out / "instance_labels", shot.stem, labels, s->width, s->height);
+  write_label_map(out / "instance_labels", shot.stem, s->gather<int32_t>(r.instance_label),
+                  s->width, s->height);
 }
 
 double milliseconds_of(const std::function<void()>& f) {

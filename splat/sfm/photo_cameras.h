@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,16 @@ class PhotoCameras {
   struct Sampling {
     int width = 0, height = 0;  // the photo's
     std::vector<int64_t> sources;
+
+    // The photo's pixels taken from a render's (row-major), `outside` where
+    // the view cropped the photo away.
+    template <typename T>
+    std::vector<T> gather(std::span<const T> render, T outside = T{}) const {
+      std::vector<T> photo(sources.size(), outside);
+      for (size_t i = 0; i < sources.size(); ++i)
+        if (sources[i] >= 0) photo[i] = render[size_t(sources[i])];
+      return photo;
+    }
   };
   // nullopt when the view with this image name is not in both models.
   std::optional<Sampling> sampling(const std::string& image_name, int render_width,

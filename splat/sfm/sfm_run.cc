@@ -335,10 +335,11 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
   const fs::path sparse = r.scene / "sparse" / "0";
   // "layout 2": the scene has photo_cameras/ (outputs of older versions lack it).
   fp += fmt::format("kept {}\nlayout 2\n", kept);
+  const bool undistort = !is_pinhole(model);
   steps.run("undistortion", fp, redo, [&] {
     fs::remove_all(r.scene);
     fs::create_directories(sparse);
-    if (is_pinhole(model)) {  // nothing to undistort
+    if (!undistort) {
       write_colmap_model(model, sparse, ColmapFormat::kBinary);
       relink(images, r.scene / "images");
       return;
@@ -352,8 +353,8 @@ SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptio
     relink(und / "images", r.scene / "images");
     write_colmap_model(cameras_only(model), r.scene / kPhotoCamerasDir, ColmapFormat::kBinary);
   });
-  if (!is_pinhole(model)) undistort_user_id_maps(scene_dir, r.scene, model, o);
-  link_user_files(scene_dir, r.scene, o.images_dir, !is_pinhole(model));
+  if (undistort) undistort_user_id_maps(scene_dir, r.scene, model, o);
+  link_user_files(scene_dir, r.scene, o.images_dir, undistort);
   // Said here, where the user's folder is named, rather than only by the
   // later stages, which see the output scene.
   if (!fs::exists(scene_dir / "sam2"))
