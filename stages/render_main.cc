@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Render RGB, object masks and label maps of an OP2GS model."};
   splat::RenderRunOptions o;
   std::string scene, work, out, model, views = "test", split = "auto", camera_path;
+  std::string photo_geometry = "off";
   std::vector<std::string> view_names;
   std::vector<float> background;
   int threads = 0;
@@ -30,9 +31,11 @@ int main(int argc, char** argv) {
   app.add_option("--tau", o.tau, "mask threshold on the occupancy S_j")->capture_default_str();
   app.add_flag("--occupancy", o.occupancy, "also write the occupancy maps as grey images");
   app.add_flag("--object-images", o.object_images, "also write each object's masked image");
-  app.add_flag("--photo-geometry", o.photo_geometry,
-               "also write masks and label maps in the geometry of the photos (photo/), when "
-               "op2gs-sfm undistorted them");
+  app.add_flag("--photo-geometry{on}", photo_geometry,
+               "also write masks and label maps in the geometry of the photos (photo/), which "
+               "needs the photos' cameras op2gs-sfm records when it undistorts; "
+               "--photo-geometry=auto: only when they are there")
+      ->check(CLI::IsMember({"on", "off", "auto"}));
   app.add_option("--background", background, "background colour r g b in [0, 1]")->expected(3);
   app.add_option("--ply-object", ply_object, "write a PLY of this object only (to --ply-out)");
   app.add_option("--ply-without", ply_without, "write a PLY of the scene without this object");
@@ -64,6 +67,9 @@ int main(int argc, char** argv) {
     o.views = views == "test"    ? splat::RenderViews::kTest
               : views == "train" ? splat::RenderViews::kTrain
                                  : splat::RenderViews::kAll;
+    o.photo_geometry = photo_geometry == "on"     ? splat::PhotoGeometry::kOn
+                       : photo_geometry == "auto" ? splat::PhotoGeometry::kAuto
+                                                  : splat::PhotoGeometry::kOff;
     if (!background.empty()) std::copy_n(background.begin(), 3, o.background);
     const std::filesystem::path dir = out.empty() ? w / "render" : std::filesystem::path(out);
     const splat::RenderTiming t = splat::run_render(scene, dir, o);

@@ -169,6 +169,21 @@ GaussianModel remove_object(const GaussianModel& model, int32_t object, float mi
   return m;
 }
 
+// The photos' cameras to write photo-geometry masks for; none when they are
+// not wanted, or when auto finds none.
+PhotoCameras photo_cameras_to_use(const fs::path& scene_dir, PhotoGeometry mode) {
+  if (mode == PhotoGeometry::kOff) return {};
+  PhotoCameras photos = PhotoCameras::load(scene_dir);
+  if (!photos.empty()) return photos;
+  if (mode == PhotoGeometry::kOn)
+    throw InputError(scene_dir / kPhotoCamerasDir,
+                     "no photos' cameras: op2gs-sfm records them when it undistorts the photos; "
+                     "without them the views are the photos");
+  spdlog::info("no photos' cameras in {}: the views are the photos, so no photo/ masks",
+               scene_dir.string());
+  return {};
+}
+
 RenderTiming run_render(const fs::path& scene_dir, const fs::path& out, const RenderRunOptions& o) {
   o.Check();
   const CheckpointModel stage_two = read_model_file(o.model);
@@ -180,11 +195,7 @@ RenderTiming run_render(const fs::path& scene_dir, const fs::path& out, const Re
                  o.model.string());
   const auto scene = Scene::load(scene_dir, o.scene);
   const std::vector<Shot> shots = shots_of(*scene, o);
-  const PhotoCameras photos = o.photo_geometry ? PhotoCameras::load(scene_dir) : PhotoCameras{};
-  if (o.photo_geometry && photos.empty())
-    throw InputError(scene_dir / kPhotoCamerasDir,
-                     "no photos' cameras: op2gs-sfm records them when it undistorts the photos; "
-                     "without them the views are the photos");
+  const PhotoCameras photos = photo_cameras_to_use(scene_dir, o.photo_geometry);
   const CpuRenderer renderer;
 
   RenderSettings all;
@@ -208,7 +219,7 @@ RenderTiming run_render(const fs::path& scene_dir, const fs::path& out, const Re
   for (const Shot& shot : shots) {
     renderer.render(model, shot.camera, all, r);
     write_shot(out, shot, r, o);
-    if (o.photo_geometry && shot.view >= 0)
+    if (!photos.empty() && shot.view >= 0)
       write_photo_shot(out / "photo", shot, scene->views()[size_t(shot.view)].name, r, photos,
                        o.tau);
     // The paper's runtime comparison: the same view rendered three ways.

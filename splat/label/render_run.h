@@ -17,7 +17,8 @@
 //   photo/masks/<stem>/<id>.png,   with --photo-geometry: the masks and the
 //   photo/instance_labels/<stem>.png  label map moved into the geometry of
 //                                  the view's photo (<scene>/photo_cameras/,
-//                                  which op2gs-sfm writes when it undistorts)
+//                                  which op2gs-sfm writes when it undistorts;
+//                                  with --photo-geometry=auto, only then)
 //
 // and the object operations a single label per Gaussian allows: a PLY of one
 // object, or of the scene without it.
@@ -33,6 +34,11 @@
 namespace splat {
 
 enum class RenderViews { kTest, kTrain, kAll };
+
+// Whether to also write masks in the geometry of the photos. kAuto does so
+// when the scene has the photos' cameras, that is when op2gs-sfm undistorted
+// the photos; otherwise the views are the photos and there is nothing to add.
+enum class PhotoGeometry { kOff, kOn, kAuto };
 
 struct RenderRunOptions {
   SceneOptions scene;
@@ -50,7 +56,7 @@ struct RenderRunOptions {
   float background[3] = {0, 0, 0};
   // Also write the masks and the instance label map of the scene's views in
   // the geometry of their photos, to lay over the photos themselves.
-  bool photo_geometry = false;
+  PhotoGeometry photo_geometry = PhotoGeometry::kOff;
   void Check() const;  // throws std::invalid_argument
 };
 

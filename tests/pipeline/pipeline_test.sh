@@ -82,7 +82,8 @@ grep -q "ramen/test_mask: queries differ from the dataset's list: missing: egg" 
   { cat "$tmp/check.log"; fail "the check did not name the missing query"; }
 
 echo "-- photos: a scene without ID maps fails its stage and the others go on (-k);"
-echo "   a scene's own COLMAP model with distortion is undistorted before training"
+echo "   a scene's own COLMAP model with distortion is undistorted before training,"
+echo "   and its masks are also written in the photos' geometry"
 for s in a b c; do
   "$bin/op2gs-synth" "$tmp/photos/$s" --views 8 --width 96 --height 72 --supersample 1 \
     --points 500 >/dev/null 2>&1
@@ -90,7 +91,7 @@ done
 rm -rf "$tmp/photos/b/sam2"
 sed -i 's/^1 PINHOLE \(.*\)$/1 OPENCV \1 -0.05 0.01 0 0/' "$tmp/photos/c/sparse/0/cameras.txt"
 grep -q "^1 OPENCV" "$tmp/photos/c/sparse/0/cameras.txt" || fail "could not give scene c distortion"
-photos=(DATASET=photos DATA_ROOT="$tmp/photos" WORK_ROOT="$tmp/prun" ITERATIONS=100 STAGE_ONE=100)
+photos=(DATASET=photos DATA_ROOT="$tmp/photos" WORK_ROOT="$tmp/prun" ITERATIONS=100 STAGE_ONE=80)
 if mk "${photos[@]}" -k vote > "$tmp/k.log" 2>&1; then fail "a scene without sam2/ passed"; fi
 [ -e "$tmp/prun/a/stamps/vote.done" ] || { tail -30 "$tmp/k.log"; fail "scene a did not finish"; }
 [ ! -e "$tmp/prun/b/stamps/vote.done" ] || fail "scene b's vote passed"
@@ -102,4 +103,9 @@ grep -q "$tmp/photos/b: no sam2/ folder of ID maps" "$tmp/prun/b/logs/sfm.log" |
 grep -q "op2gs: b: stage vote failed (exit 1): .*/b/sfm/scene/sam2: no ID map folder" "$tmp/k.log" ||
   { tail -30 "$tmp/k.log"; fail "no clear failure line"; }
 grep "op2gs: b: stage vote failed" "$tmp/k.log"
+# Scene c's photos were undistorted: its masks are also written over the
+# photos themselves; scene a's views are its photos, so it has no photo/.
+mk "${photos[@]}" a.render c.render > "$tmp/r.log" 2>&1 || { tail -30 "$tmp/r.log"; fail "photos render"; }
+ls "$tmp/prun/c/render/photo/masks/"*/*.png >/dev/null 2>&1 || fail "scene c has no photo-geometry masks"
+[ ! -e "$tmp/prun/a/render/photo" ] || fail "scene a has photo-geometry masks, though its views are its photos"
 echo "PASS"

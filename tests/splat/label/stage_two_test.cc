@@ -161,7 +161,7 @@ TEST(StageTwo, PhotoGeometryMasksMatchTheViewsWhenThePhotosHaveNoDistortion) {
   run_training(scene(), a / "learn", learn_options(320));
   RenderRunOptions r;
   r.model = a / "learn/checkpoints/latest.ckpt";
-  r.photo_geometry = true;
+  r.photo_geometry = PhotoGeometry::kAuto;
   run_render(a / "scene", a / "render", r);
   size_t compared = 0;
   for (const char* stem : {"frame_00000", "frame_00008"}) {
@@ -176,10 +176,14 @@ TEST(StageTwo, PhotoGeometryMasksMatchTheViewsWhenThePhotosHaveNoDistortion) {
   }
   EXPECT_GE(compared, 16u);
 
-  // Without the photos' cameras the option is an error naming the folder.
-  r.photo_geometry = true;
+  // Without the photos' cameras, auto writes no photo/ folder, and on is an
+  // error naming the folder.
+  run_render(scene(), a / "render2", r);
+  EXPECT_TRUE(fs::exists(a / "render2/masks"));
+  EXPECT_FALSE(fs::exists(a / "render2/photo"));
+  r.photo_geometry = PhotoGeometry::kOn;
   try {
-    run_render(scene(), a / "render2", r);
+    run_render(scene(), a / "render3", r);
     FAIL() << "expected an error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(kPhotoCamerasDir), std::string::npos) << e.what();
