@@ -6,13 +6,13 @@
 # and, given queries (QUERIES="red chair;lamp" for every scene, or
 # QUERIES_<scene>), the objects they select (<work>/<scene>/query/query.json).
 # When op2gs-sfm undistorted the photos, the masks are also written in the
-# photos' own geometry (<work>/<scene>/render/photo/), to lay over them.
+# photos' own geometry (<work>/<scene>/render/photo/, PHOTO_GEOMETRY), to lay
+# over them.
 
 SCENES ?= $(foreach d,$(wildcard $(DATA_ROOT)/*/images),$(notdir $(patsubst %/images,%,$(d))))
 QUERIES ?=
 $(foreach s,$(SCENES),$(eval QUERIES_$(s) ?= $(QUERIES)))
 SPLIT ?= every8
-RENDER_OPTS ?= --photo-geometry=auto
 QUERY_MODE := no
 DATASET_PAPER := other
 DATASET_LAYOUT := photos

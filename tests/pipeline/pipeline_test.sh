@@ -31,6 +31,8 @@ grep -q "report: $tmp/run/report/report.html" "$tmp/first.log" || fail "the run 
 grep -q '"query_results"' "$w/eval/metrics.json" || fail "metrics.json has no query-mode scores"
 # COLMAP's OPENCV cameras were undistorted: masks are scored in the photos' geometry.
 grep -q '"mask_geometry": "photos' "$w/eval/metrics.json" || fail "masks not scored in the photos' geometry"
+# ... and the masks are also written over the photos (PHOTO_GEOMETRY=auto).
+ls "$w/render/photo/masks/"*/*.png >/dev/null 2>&1 || fail "no masks in the photos' geometry"
 # The metrics file parses: op2gs-report reads every figure of it.
 "$bin/op2gs-report" --scene demo "$w/sfm/scene" "$w" --out "$tmp/check" --no-figures >/dev/null 2>&1 ||
   fail "metrics.json does not parse"
