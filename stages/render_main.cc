@@ -67,9 +67,9 @@ int main(int argc, char** argv) {
     o.views = views == "test"    ? splat::RenderViews::kTest
               : views == "train" ? splat::RenderViews::kTrain
                                  : splat::RenderViews::kAll;
-    o.photo_geometry = photo_geometry == "on"     ? splat::PhotoGeometry::kOn
-                       : photo_geometry == "auto" ? splat::PhotoGeometry::kAuto
-                                                  : splat::PhotoGeometry::kOff;
+    o.photo_geometry = photo_geometry == "on"     ? splat::PhotoGeometryMode::kOn
+                       : photo_geometry == "auto" ? splat::PhotoGeometryMode::kAuto
+                                                  : splat::PhotoGeometryMode::kOff;
     if (!background.empty()) std::copy_n(background.begin(), 3, o.background);
     const std::filesystem::path dir = out.empty() ? w / "render" : std::filesystem::path(out);
     const splat::RenderTiming t = splat::run_render(scene, dir, o);

@@ -153,6 +153,21 @@ double milliseconds_of(const std::function<void()>& f) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The photos' cameras to write photo-geometry masks for; none when they are
+// not wanted, or when auto finds none.
+PhotoCameras photo_cameras_to_use(const fs::path& scene_dir, PhotoGeometryMode mode) {
+  if (mode == PhotoGeometryMode::kOff) return {};
+  PhotoCameras photos = PhotoCameras::load(scene_dir);
+  if (!photos.empty()) return photos;
+  if (mode == PhotoGeometryMode::kOn)
+    throw InputError(scene_dir / kPhotoCamerasDir,
+                     "no photos' cameras: op2gs-sfm records them when it undistorts the photos; "
+                     "without them the views are the photos");
+  spdlog::info("no photos' cameras in {}: the views are the photos, so no photo/ masks",
+               scene_dir.string());
+  return {};
+}
+
 }  // namespace
 
 GaussianModel select_object(const GaussianModel& model, int32_t object, float min_sigma) {
@@ -167,21 +182,6 @@ GaussianModel remove_object(const GaussianModel& model, int32_t object, float mi
   GaussianModel m = model;
   keep_gaussians(m, keep);
   return m;
-}
-
-// The photos' cameras to write photo-geometry masks for; none when they are
-// not wanted, or when auto finds none.
-PhotoCameras photo_cameras_to_use(const fs::path& scene_dir, PhotoGeometry mode) {
-  if (mode == PhotoGeometry::kOff) return {};
-  PhotoCameras photos = PhotoCameras::load(scene_dir);
-  if (!photos.empty()) return photos;
-  if (mode == PhotoGeometry::kOn)
-    throw InputError(scene_dir / kPhotoCamerasDir,
-                     "no photos' cameras: op2gs-sfm records them when it undistorts the photos; "
-                     "without them the views are the photos");
-  spdlog::info("no photos' cameras in {}: the views are the photos, so no photo/ masks",
-               scene_dir.string());
-  return {};
 }
 
 RenderTiming run_render(const fs::path& scene_dir, const fs::path& out, const RenderRunOptions& o) {

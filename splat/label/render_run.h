@@ -38,7 +38,7 @@ enum class RenderViews { kTest, kTrain, kAll };
 // Whether to also write masks in the geometry of the photos. kAuto does so
 // when the scene has the photos' cameras, that is when op2gs-sfm undistorted
 // the photos; otherwise the views are the photos and there is nothing to add.
-enum class PhotoGeometry { kOff, kOn, kAuto };
+enum class PhotoGeometryMode { kOff, kOn, kAuto };
 
 struct RenderRunOptions {
   SceneOptions scene;
@@ -56,7 +56,7 @@ struct RenderRunOptions {
   float background[3] = {0, 0, 0};
   // Also write the masks and the instance label map of the scene's views in
   // the geometry of their photos, to lay over the photos themselves.
-  PhotoGeometry photo_geometry = PhotoGeometry::kOff;
+  PhotoGeometryMode photo_geometry = PhotoGeometryMode::kOff;
   void Check() const;  // throws std::invalid_argument
 };
 

@@ -161,7 +161,7 @@ TEST(StageTwo, PhotoGeometryMasksMatchTheViewsWhenThePhotosHaveNoDistortion) {
   run_training(scene(), a / "learn", learn_options(320));
   RenderRunOptions r;
   r.model = a / "learn/checkpoints/latest.ckpt";
-  r.photo_geometry = PhotoGeometry::kAuto;
+  r.photo_geometry = PhotoGeometryMode::kAuto;
   run_render(a / "scene", a / "render", r);
   size_t compared = 0;
   for (const char* stem : {"frame_00000", "frame_00008"}) {
@@ -181,7 +181,7 @@ TEST(StageTwo, PhotoGeometryMasksMatchTheViewsWhenThePhotosHaveNoDistortion) {
   run_render(scene(), a / "render2", r);
   EXPECT_TRUE(fs::exists(a / "render2/masks"));
   EXPECT_FALSE(fs::exists(a / "render2/photo"));
-  r.photo_geometry = PhotoGeometry::kOn;
+  r.photo_geometry = PhotoGeometryMode::kOn;
   try {
     run_render(scene(), a / "render3", r);
     FAIL() << "expected an error";
