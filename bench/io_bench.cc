@@ -8,10 +8,11 @@
 #include <filesystem>
 #include <random>
 
+#include "splat/camera_distortion.h"
 #include "splat/colmap_model.h"
+#include "splat/id_maps.h"
 #include "splat/image.h"
 #include "splat/ply.h"
-#include "splat/sfm/undistort_id_maps.h"
 
 namespace {
 

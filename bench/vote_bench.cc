@@ -16,6 +16,7 @@
 #include "bench/bench_scenes.h"
 #include "splat/atomic_file.h"
 #include "splat/colmap_model.h"
+#include "splat/id_maps.h"
 #include "splat/label/vote_run.h"
 #include "splat/ply.h"
 
@@ -85,7 +86,7 @@ void BM_Vote(benchmark::State& state) {
   o.baseline_maps = false;
   if (state.range(2) == 1) o.vote.visibility = VoteVisibility::kFrustum;
   for (auto _ : state) {
-    const VoteRunResult r = run_voting(scene, scene / "work", o);
+    const VoteRunResult r = run_voting(scene, scene / "work" / "vote", o);
     state.counters["objects"] = double(r.objects);
     state.counters["unseen"] = r.unseen_share;
   }

@@ -100,4 +100,45 @@ std::vector<uint32_t> inverse_order(const std::vector<uint32_t>& order) {
   return inverse;
 }
 
+const char* group_name(ParamGroup g) {
+  static const char* names[] = {"means",  "sh_dc",     "sh_rest",         "opacity",
+                                "scales", "rotations", "instance_opacity"};
+  return names[int(g)];
+}
+
+int group_width(ParamGroup g) {
+  static const int widths[] = {3, 3, kShRestFloats, 1, 3, 4, 1};
+  return widths[int(g)];
+}
+
+std::vector<float>& group_values(GaussianModel& m, ParamGroup g) {
+  switch (g) {
+    case ParamGroup::kMeans:
+      return m.means;
+    case ParamGroup::kShDc:
+      return m.sh_dc;
+    case ParamGroup::kShRest:
+      return m.sh_rest;
+    case ParamGroup::kOpacity:
+      return m.opacity_logits;
+    case ParamGroup::kScales:
+      return m.log_scales;
+    case ParamGroup::kRotations:
+      return m.rotations;
+    case ParamGroup::kInstanceOpacity:
+      return m.instance_opacity_logits;
+  }
+  throw std::logic_error("bad group");
+}
+
+const std::vector<float>& group_values(const GaussianModel& m, ParamGroup g) {
+  return group_values(const_cast<GaussianModel&>(m), g);
+}
+
+void keep_gaussians(GaussianModel& m, const std::vector<uint8_t>& keep) {
+  for (int g = 0; g < kParamGroups; ++g)
+    keep_entries(group_values(m, ParamGroup(g)), size_t(group_width(ParamGroup(g))), keep);
+  keep_entries(m.labels, 1, keep);
+}
+
 }  // namespace splat

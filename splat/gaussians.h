@@ -43,6 +43,32 @@ struct GaussianModel {
   bool operator==(const GaussianModel&) const = default;
 };
 
+// The parameter groups of a model, as the optimiser and the checkpoint see
+// them: one array each, group_width floats per Gaussian.
+enum class ParamGroup { kMeans, kShDc, kShRest, kOpacity, kScales, kRotations, kInstanceOpacity };
+inline constexpr int kParamGroups = 7;
+const char* group_name(ParamGroup g);
+// Floats per Gaussian in each group.
+int group_width(ParamGroup g);
+std::vector<float>& group_values(GaussianModel& m, ParamGroup g);
+const std::vector<float>& group_values(const GaussianModel& m, ParamGroup g);
+
+// Keeps, in order, the Gaussians i with keep[i] != 0 (every parameter and
+// the label).
+void keep_gaussians(GaussianModel& m, const std::vector<uint8_t>& keep);
+
+// Keeps, in order, the entries i of v (w values each) with keep[i] != 0.
+template <typename T>
+void keep_entries(std::vector<T>& v, size_t w, const std::vector<uint8_t>& keep) {
+  size_t out = 0;
+  for (size_t i = 0; i < keep.size(); ++i) {
+    if (!keep[i]) continue;
+    for (size_t k = 0; k < w; ++k) v[w * out + k] = v[w * i + k];
+    ++out;
+  }
+  v.resize(w * out);
+}
+
 // Puts Gaussian order[k] at position k, in every array (order is a
 // permutation of 0..size-1).
 void reorder_gaussians(GaussianModel& m, const std::vector<uint32_t>& order);

@@ -1,5 +1,6 @@
 #pragma once
-// Float RGB images and integer ID maps, read and written through OpenImageIO.
+// Float RGB images and integer ID maps as pixel buffers; RGB images and
+// masks read and written through OpenImageIO (ID map files: id_maps.h).
 
 #include <cstdint>
 #include <filesystem>
@@ -48,15 +49,6 @@ ImageRGB downscale_area(const ImageRGB& image, int factor);
 // Resizes with an area filter to an exact size (for images_N folders whose
 // size is off by rounding, and for a maximum-width resolution option).
 ImageRGB resize_area(const ImageRGB& image, int width, int height);
-
-// ID maps are single-channel 8- or 16-bit PNGs (../shared/spec/inputs.md),
-// or palette PNGs whose indices are the IDs (SAM2's video tools write those;
-// see png_indexed.h). Anything with more than one channel, or not an integer
-// type of 8/16 bits, is rejected with an InputError naming the file.
-IdMap read_id_map(const std::filesystem::path& file);
-// Writes a single-channel PNG atomically with bits = 8 or 16; 8 bits requires
-// every ID <= 255.
-void write_id_map(const std::filesystem::path& file, const IdMap& map, int bits);
 
 // A binary mask as an 8-bit PNG with values 0 and 255 (the format of the
 // benchmarks' ground-truth masks).

@@ -11,9 +11,13 @@
 #include <exception>
 #include <functional>
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "splat/error.h"
-#include "splat/train/trainer.h"
+#include "splat/view_split.h"
+#include "splat/work_layout.h"
 
 namespace stages {
 
@@ -36,13 +40,33 @@ class ThreadLimit {
   std::optional<tbb::global_control> limit_;
 };
 
+// An option that names one of a few choices (an enum): the value whose name
+// was given. Throws std::invalid_argument "--option must be a, b or c"
+// otherwise, which run_stage turns into exit status 2.
+template <typename E>
+E parse_choice(const std::string& option, const std::string& name,
+               const std::vector<std::pair<std::string, E>>& choices) {
+  std::string list;
+  for (size_t i = 0; i < choices.size(); ++i) {
+    if (choices[i].first == name) return choices[i].second;
+    list += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + choices[i].first;
+  }
+  throw std::invalid_argument(option + " must be " + list);
+}
+
 // The --split option of the stages that read a scene's train/test split.
 inline splat::SplitRule parse_split(const std::string& name) {
-  if (name == "auto") return splat::SplitRule::kAuto;
-  if (name == "lerf") return splat::SplitRule::kLerfMask;
-  if (name == "every8") return splat::SplitRule::kEvery8;
-  if (name == "all") return splat::SplitRule::kAll;
-  throw std::invalid_argument("--split must be auto, lerf, every8 or all");
+  return parse_choice<splat::SplitRule>("--split", name,
+                                        {{"auto", splat::SplitRule::kAuto},
+                                         {"lerf", splat::SplitRule::kLerfMask},
+                                         {"every8", splat::SplitRule::kEvery8},
+                                         {"all", splat::SplitRule::kAll}});
+}
+
+// A path option whose default is a place in the work folder.
+inline std::filesystem::path or_default(const std::string& given,
+                                        const std::filesystem::path& fallback) {
+  return given.empty() ? fallback : std::filesystem::path(given);
 }
 
 // The options of every stage that reads a scene's views: --resolution,

@@ -3,7 +3,6 @@
 
 #include <chrono>
 
-#include "splat/label/vote_run.h"
 #include "splat/query/embed_run.h"
 #include "stages/common.h"
 
@@ -38,13 +37,12 @@ int main(int argc, char** argv) {
   stages::add_scene_options(app, o.scene, split, threads);
   return stages::run_stage(app, argc, argv, [&] {
     const stages::ThreadLimit limit(threads);
-    const std::filesystem::path w = work;
-    o.model =
-        model.empty() ? w / "learn" / "checkpoints" / "latest.ckpt" : std::filesystem::path(model);
+    const splat::WorkLayout w{work};
+    o.model = stages::or_default(model, w.stage_two().latest_checkpoint());
     o.clip_dir = clip;
     o.split = stages::parse_split(split);
     if (!background.empty()) std::copy_n(background.begin(), 3, o.crop_background.begin());
-    const std::filesystem::path dir = out.empty() ? w / "embed" : std::filesystem::path(out);
+    const std::filesystem::path dir = stages::or_default(out, w.embed());
     const auto start = std::chrono::steady_clock::now();
     const splat::ObjectEmbeddings e = splat::run_embed(scene, dir, o);
     size_t crops = 0;

@@ -40,14 +40,12 @@ int main(int argc, char** argv) {
         throw std::invalid_argument("--pred must be NAME=FOLDER, not " + p);
       o.predictions.push_back({p.substr(0, eq), p.substr(eq + 1)});
     }
-    const std::map<std::string, eval::Protocol> protocols = {
-        {"auto", eval::Protocol::kAuto},
-        {"lerf", eval::Protocol::kLerfMask},
-        {"3dovs", eval::Protocol::kOvs},
-        {"3dovs-lerf", eval::Protocol::kOvsLerfMask}};
-    if (!protocols.count(protocol))
-      throw std::invalid_argument("--protocol must be auto, lerf or 3dovs");
-    o.protocol = protocols.at(protocol);
+    o.protocol =
+        stages::parse_choice<eval::Protocol>("--protocol", protocol,
+                                             {{"auto", eval::Protocol::kAuto},
+                                              {"lerf", eval::Protocol::kLerfMask},
+                                              {"3dovs", eval::Protocol::kOvs},
+                                              {"3dovs-lerf", eval::Protocol::kOvsLerfMask}});
     o.truth_width = truth_width;
     o.renders = renders;
     o.query_results = queries;

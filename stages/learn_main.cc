@@ -51,16 +51,15 @@ int main(int argc, char** argv) {
   return stages::run_stage(app, argc, argv, [&] {
     common.apply();
     o.train.densify_until = 0;  // no densification (nor opacity reset) in stage two
-    const std::filesystem::path w = work;
-    o.start_checkpoint =
-        checkpoint.empty() ? w / "checkpoints" / "latest.ckpt" : std::filesystem::path(checkpoint);
-    o.labels_model =
-        labels.empty() ? w / "vote" / "point_cloud.ply" : std::filesystem::path(labels);
+    const splat::WorkLayout w{work};
+    o.start_checkpoint = stages::or_default(checkpoint, w.stage_one().latest_checkpoint());
+    o.labels_model = stages::or_default(labels, w.labelled_model());
     if (!o.resume) {
       if (!std::filesystem::exists(o.start_checkpoint))
         throw splat::InputError(o.start_checkpoint, "no stage-one checkpoint (run op2gs-train)");
-      warn_if_just_after_reset(o.start_checkpoint, w);
+      warn_if_just_after_reset(o.start_checkpoint, w.stage_one().root);
     }
-    stages::TrainingCli::report(splat::run_training(scene, w / "learn", o), (w / "learn").string());
+    const std::filesystem::path out = w.stage_two().root;
+    stages::TrainingCli::report(splat::run_training(scene, out, o), out.string());
   });
 }

@@ -41,16 +41,15 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "output folder (default <work>/query)");
   app.add_option("--clip", clip, "CLIP folder, as for op2gs-embed")->capture_default_str();
   return stages::run_stage(app, argc, argv, [&] {
-    const std::filesystem::path w = work;
+    const splat::WorkLayout w{work};
     if (!queries_file.empty())
       for (const std::string& q : read_lines(queries_file)) o.queries.push_back(q);
     if (!scene.empty())
       for (const std::string& q : eval::benchmark_queries(scene)) o.queries.push_back(q);
     if (!templates.empty()) o.templates = templates;
-    o.embeddings =
-        embeddings.empty() ? w / "embed" / "embeddings.json" : std::filesystem::path(embeddings);
+    o.embeddings = stages::or_default(embeddings, w.embeddings());
     o.clip_dir = clip;
-    const std::filesystem::path dir = out.empty() ? w / "query" : std::filesystem::path(out);
+    const std::filesystem::path dir = stages::or_default(out, w.query());
     const splat::QueryResults r = splat::run_query(dir, o);
     size_t width = 5;
     for (const auto& a : r.answers) width = std::max(width, a.query.size());

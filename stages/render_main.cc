@@ -1,9 +1,8 @@
 // op2gs-render: colour, object masks, label maps and object operations of a
 // stage-two model, for chosen views or a camera path.
 
+#include "splat/label/object_ply.h"
 #include "splat/label/render_run.h"
-#include "splat/label/vote_run.h"
-#include "splat/ply.h"
 #include "stages/common.h"
 
 int main(int argc, char** argv) {
@@ -15,8 +14,7 @@ int main(int argc, char** argv) {
   std::vector<float> background;
   int threads = 0;
   int32_t ply_object = 0, ply_without = 0;
-  std::string ply_out;
-  float min_sigma = 0.1f;
+  splat::ObjectPlyOptions ply;
   app.add_option("scene", scene, "scene folder")->required();
   app.add_option("work", work, "work folder; reads <work>/learn/, writes <work>/render/")
       ->required();
@@ -34,44 +32,41 @@ int main(int argc, char** argv) {
   app.add_flag("--photo-geometry{on}", photo_geometry,
                "also write masks and label maps in the geometry of the photos (photo/), which "
                "needs the photos' cameras op2gs-sfm records when it undistorts; "
-               "--photo-geometry=auto: only when they are there")
-      ->check(CLI::IsMember({"on", "off", "auto"}));
+               "--photo-geometry=auto: only when they are there");
   app.add_option("--background", background, "background colour r g b in [0, 1]")->expected(3);
   app.add_option("--ply-object", ply_object, "write a PLY of this object only (to --ply-out)");
   app.add_option("--ply-without", ply_without, "write a PLY of the scene without this object");
-  app.add_option("--ply-out", ply_out, "PLY file of --ply-object / --ply-without");
-  app.add_option("--min-instance-opacity", min_sigma,
+  app.add_option("--ply-out", ply.out, "PLY file of --ply-object / --ply-without");
+  app.add_option("--min-instance-opacity", ply.min_instance_opacity,
                  "an object's Gaussians have its label and sigma* at least this")
       ->capture_default_str();
   stages::add_scene_options(app, o.scene, split, threads);
   return stages::run_stage(app, argc, argv, [&] {
     const stages::ThreadLimit limit(threads);
-    const std::filesystem::path w = work;
-    o.model =
-        model.empty() ? w / "learn" / "checkpoints" / "latest.ckpt" : std::filesystem::path(model);
+    const splat::WorkLayout w{work};
+    o.model = stages::or_default(model, w.stage_two().latest_checkpoint());
     if (ply_object || ply_without) {
-      if (ply_out.empty()) throw std::invalid_argument("--ply-out is required");
-      const splat::GaussianModel m = splat::read_model_file(o.model).model;
-      const splat::GaussianModel part = ply_object
-                                            ? splat::select_object(m, ply_object, min_sigma)
-                                            : splat::remove_object(m, ply_without, min_sigma);
-      splat::write_gaussian_ply(ply_out, part);
-      spdlog::info("{} of {} Gaussians written to {}", part.size(), m.size(), ply_out);
+      ply.model = o.model;
+      ply.object = ply_object ? ply_object : ply_without;
+      ply.without = !ply_object;
+      const splat::ObjectPlyResult r = splat::write_object_ply(ply);
+      spdlog::info("{} of {} Gaussians written to {}", r.written, r.total, ply.out.string());
       return;
     }
     o.split = stages::parse_split(split);
     o.view_names = view_names;
     o.camera_path = camera_path;
-    if (views != "test" && views != "train" && views != "all")
-      throw std::invalid_argument("--views must be test, train or all");
-    o.views = views == "test"    ? splat::RenderViews::kTest
-              : views == "train" ? splat::RenderViews::kTrain
-                                 : splat::RenderViews::kAll;
-    o.photo_geometry = photo_geometry == "on"     ? splat::PhotoGeometryMode::kOn
-                       : photo_geometry == "auto" ? splat::PhotoGeometryMode::kAuto
-                                                  : splat::PhotoGeometryMode::kOff;
+    o.views = stages::parse_choice<splat::RenderViews>("--views", views,
+                                                       {{"test", splat::RenderViews::kTest},
+                                                        {"train", splat::RenderViews::kTrain},
+                                                        {"all", splat::RenderViews::kAll}});
+    o.photo_geometry =
+        stages::parse_choice<splat::PhotoGeometryMode>("--photo-geometry", photo_geometry,
+                                                       {{"off", splat::PhotoGeometryMode::kOff},
+                                                        {"on", splat::PhotoGeometryMode::kOn},
+                                                        {"auto", splat::PhotoGeometryMode::kAuto}});
     if (!background.empty()) std::copy_n(background.begin(), 3, o.background);
-    const std::filesystem::path dir = out.empty() ? w / "render" : std::filesystem::path(out);
+    const std::filesystem::path dir = stages::or_default(out, w.render());
     const splat::RenderTiming t = splat::run_render(scene, dir, o);
     spdlog::info(
         "{} views: colour {:.1f} ms, all-object masks {:.1f} ms ({:.2f}x), instance "

@@ -28,14 +28,14 @@ int main(int argc, char** argv) {
   return stages::run_stage(app, argc, argv, [&] {
     o.figures = !no_figures;
     for (size_t i = 0; i + 2 < scenes.size(); i += 3) {
-      const std::filesystem::path work = scenes[i + 2];
+      const splat::WorkLayout work{scenes[i + 2]};
       eval::SceneReportInput s;
       s.name = scenes[i];
       s.scene = scenes[i + 1];
-      s.metrics = work / metrics;
-      s.render = work / "render";
-      s.curves = {work / "training_curve.png", work / "learn" / "training_curve.png"};
-      s.queries = work / "query" / "query.json";
+      s.metrics = work.root / metrics;
+      s.render = work.render();
+      s.curves = {work.stage_one().curve(), work.stage_two().curve()};
+      s.queries = work.query_results();
       o.scenes.push_back(s);
     }
     const eval::ReportFiles f = eval::write_report(out, o);

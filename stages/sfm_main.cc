@@ -42,18 +42,14 @@ int main(int argc, char** argv) {
   app.add_option("--truth", truth,
                  "true cameras (COLMAP model): report the pose accuracy after alignment");
   return stages::run_stage(app, argc, argv, [&] {
-    const std::map<std::string, splat::SfmMatcher> matchers = {
-        {"auto", splat::SfmMatcher::kAuto},
-        {"exhaustive", splat::SfmMatcher::kExhaustive},
-        {"sequential", splat::SfmMatcher::kSequential}};
-    if (!matchers.count(matcher))
-      throw std::invalid_argument("--matcher must be auto, exhaustive or sequential");
-    o.matcher = matchers.at(matcher);
-    if (gpu != "auto" && gpu != "on" && gpu != "off")
-      throw std::invalid_argument("--gpu must be auto, on or off");
-    o.gpu = gpu == "auto" ? splat::SfmOptions::Gpu::kAuto
-            : gpu == "on" ? splat::SfmOptions::Gpu::kOn
-                          : splat::SfmOptions::Gpu::kOff;
+    o.matcher =
+        stages::parse_choice<splat::SfmMatcher>("--matcher", matcher,
+                                                {{"auto", splat::SfmMatcher::kAuto},
+                                                 {"exhaustive", splat::SfmMatcher::kExhaustive},
+                                                 {"sequential", splat::SfmMatcher::kSequential}});
+    using Gpu = splat::SfmOptions::Gpu;
+    o.gpu = stages::parse_choice<Gpu>("--gpu", gpu,
+                                      {{"auto", Gpu::kAuto}, {"on", Gpu::kOn}, {"off", Gpu::kOff}});
     o.vocab_tree = vocab;
     o.import_model = import_model;
     o.truth = truth;

@@ -14,15 +14,10 @@ class TrainingCli {
     app.add_option("--iterations", o.stop_at, "stop at this iteration")->capture_default_str();
     app.add_option("--schedule", o.train.total_iterations, "length of the learning-rate schedule")
         ->capture_default_str();
-    app.add_option("--resolution", resolution_,
-                   "downscale factor 1, 2, 4 or 8 (uses images_N/ if present)")
-        ->capture_default_str();
+    add_scene_options(app, o.train.scene, split_, threads_,
+                      "downscale factor 1, 2, 4 or 8 (uses images_N/ if present)");
     app.add_option("--max-width", o.train.scene.max_width,
                    "scale images down to at most this width (0: off)");
-    app.add_option("--images", o.train.scene.images_dir, "image folder inside the scene")
-        ->capture_default_str();
-    app.add_option("--split", split_, "train/test split: auto, lerf (images_train/), every8, all")
-        ->capture_default_str();
     app.add_option("--seed", o.train.seed, "random seed")->capture_default_str();
     app.add_option("--sh-degree", o.train.sh_degree, "largest SH degree")->capture_default_str();
     app.add_option("--background", background_, "background colour r g b in [0, 1]")->expected(3);
@@ -32,14 +27,12 @@ class TrainingCli {
     app.add_option("--test-at", o.test_at, "also evaluate the test views at these iterations");
     app.add_option("--cache-mb", cache_mb_, "decoded images kept in memory, MiB")
         ->capture_default_str();
-    app.add_option("--threads", threads_, "worker threads (0: all cores)")->capture_default_str();
   }
 
   // Moves the parsed values into the options and limits the threads (for as
   // long as this object lives).
   void apply() {
     limit_.emplace(threads_);
-    o_.train.scene.downscale = resolution_;
     o_.train.scene.cache_bytes = size_t(cache_mb_ * (1 << 20));
     if (!background_.empty()) std::copy_n(background_.begin(), 3, o_.train.background);
     o_.train.split = parse_split(split_);
@@ -56,7 +49,7 @@ class TrainingCli {
  private:
   splat::TrainRunOptions& o_;
   std::string split_ = "auto";
-  int resolution_ = 1, threads_ = 0;
+  int threads_ = 0;
   double cache_mb_ = 2048;
   std::vector<float> background_;
   std::optional<ThreadLimit> limit_;

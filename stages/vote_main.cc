@@ -31,18 +31,18 @@ int main(int argc, char** argv) {
                             "downscale factor 1, 2, 4 or 8 of the baseline maps and previews");
   return stages::run_stage(app, argc, argv, [&] {
     const stages::ThreadLimit limit(threads);
-    o.model = model;
+    const splat::WorkLayout w{work};
+    o.model = stages::or_default(model, w.stage_one().latest_checkpoint());
     o.split = stages::parse_split(split);
-    if (visibility != "depth" && visibility != "frustum")
-      throw std::invalid_argument("--visibility must be depth or frustum");
-    o.vote.visibility =
-        visibility == "depth" ? splat::VoteVisibility::kDepth : splat::VoteVisibility::kFrustum;
-    const splat::VoteRunResult r = splat::run_voting(scene, work, o);
+    o.vote.visibility = stages::parse_choice<splat::VoteVisibility>(
+        "--visibility", visibility,
+        {{"depth", splat::VoteVisibility::kDepth}, {"frustum", splat::VoteVisibility::kFrustum}});
+    const splat::VoteRunResult r = splat::run_voting(scene, w.vote(), o);
     spdlog::info(
         "{} Gaussians labelled from {} views: {} objects, {:.1f}% background "
         "({:.1f}% seen in no view), vote agreement {:.1f}%, {:.1f} s",
         r.gaussians, r.views_used, r.objects, 100 * r.background_share, 100 * r.unseen_share,
         100 * r.vote_agreement, r.seconds);
-    spdlog::info("outputs in {}/vote", work);
+    spdlog::info("outputs in {}", w.vote().string());
   });
 }

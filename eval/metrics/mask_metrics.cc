@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "splat/error.h"
-#include "splat/label/id_maps.h"
+#include "splat/id_maps.h"
 
 namespace eval {
 namespace fs = std::filesystem;

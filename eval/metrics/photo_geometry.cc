@@ -5,7 +5,7 @@
 #include <optional>
 #include <utility>
 
-#include "splat/sfm/sfm_run.h"
+#include "splat/photo_cameras.h"
 
 namespace eval {
 namespace fs = std::filesystem;

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "eval/metrics/lerf_mask.h"
-#include "splat/sfm/photo_cameras.h"
+#include "splat/photo_cameras.h"
 
 namespace eval {
 

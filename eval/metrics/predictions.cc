@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "splat/error.h"
+#include "splat/id_maps.h"
 #include "splat/image.h"
 
 namespace eval {

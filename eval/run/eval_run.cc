@@ -13,9 +13,9 @@
 #include "splat/colmap_model.h"
 #include "splat/error.h"
 #include "splat/image.h"
+#include "splat/image_quality.h"
 #include "splat/query/query_run.h"
 #include "splat/sfm/alignment.h"
-#include "splat/train/image_loss.h"
 
 namespace eval {
 namespace fs = std::filesystem;

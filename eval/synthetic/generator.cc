@@ -11,10 +11,11 @@
 #include <random>
 #include <set>
 
-#include "splat/npy.h"
 #include "eval/synthetic/raytracer.h"
 #include "splat/atomic_file.h"
+#include "splat/id_maps.h"
 #include "splat/image.h"
+#include "splat/npy.h"
 
 namespace synth {
 namespace fs = std::filesystem;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "splat/id_maps.h"
+
 namespace splat {
 
 std::array<float, 3> label_color(int32_t label) {

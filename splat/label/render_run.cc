@@ -9,14 +9,13 @@
 #include <nlohmann/json.hpp>
 
 #include "splat/atomic_file.h"
+#include "splat/checkpoint.h"
 #include "splat/colmap_model.h"
 #include "splat/error.h"
 #include "splat/label/palette.h"
 #include "splat/label/vote_run.h"
+#include "splat/photo_cameras.h"
 #include "splat/render/renderer.h"
-#include "splat/sfm/photo_cameras.h"
-#include "splat/sfm/sfm_run.h"
-#include "splat/train/densify.h"
 
 namespace splat {
 namespace fs = std::filesystem;
@@ -30,17 +29,6 @@ void RenderRunOptions::Check() const {
 }
 
 namespace {
-
-std::vector<uint8_t> object_membership(const GaussianModel& m, int32_t object, float min_sigma) {
-  if (!m.has_labels) throw std::invalid_argument("the model has no labels (run op2gs-vote)");
-  std::vector<uint8_t> in(m.size(), 0);
-  for (size_t i = 0; i < m.size(); ++i) {
-    const float s =
-        sigmoid(m.has_instance_opacity ? m.instance_opacity_logits[i] : m.opacity_logits[i]);
-    in[i] = m.labels[i] == object && s >= min_sigma;
-  }
-  return in;
-}
 
 // A named camera to render.
 struct Shot {
@@ -169,20 +157,6 @@ PhotoCameras photo_cameras_to_use(const fs::path& scene_dir, PhotoGeometryMode m
 }
 
 }  // namespace
-
-GaussianModel select_object(const GaussianModel& model, int32_t object, float min_sigma) {
-  GaussianModel m = model;
-  keep_gaussians(m, object_membership(model, object, min_sigma));
-  return m;
-}
-
-GaussianModel remove_object(const GaussianModel& model, int32_t object, float min_sigma) {
-  std::vector<uint8_t> keep = object_membership(model, object, min_sigma);
-  for (uint8_t& k : keep) k = !k;
-  GaussianModel m = model;
-  keep_gaussians(m, keep);
-  return m;
-}
 
 RenderTiming run_render(const fs::path& scene_dir, const fs::path& out, const RenderRunOptions& o) {
   o.Check();

@@ -20,16 +20,14 @@
 //                                  which op2gs-sfm writes when it undistorts;
 //                                  with --photo-geometry=auto, only then)
 //
-// and the object operations a single label per Gaussian allows: a PLY of one
-// object, or of the scene without it.
+// The object operations on the model itself are in object_ply.h.
 
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#include "splat/gaussians.h"
 #include "splat/scene.h"
-#include "splat/train/trainer.h"
+#include "splat/view_split.h"
 
 namespace splat {
 
@@ -69,11 +67,5 @@ struct RenderTiming {
 
 RenderTiming run_render(const std::filesystem::path& scene_dir, const std::filesystem::path& out,
                         const RenderRunOptions& options);
-
-// Object operations. The object is the Gaussians with its label whose
-// instance opacity sigma* is at least min_instance_opacity (stage two pushes
-// mislabelled Gaussians' sigma* towards 0; they stay with the scene).
-GaussianModel select_object(const GaussianModel& model, int32_t object, float min_instance_opacity);
-GaussianModel remove_object(const GaussianModel& model, int32_t object, float min_instance_opacity);
 
 }  // namespace splat

@@ -12,8 +12,9 @@
 #include <nlohmann/json.hpp>
 
 #include "splat/atomic_file.h"
+#include "splat/checkpoint.h"
 #include "splat/error.h"
-#include "splat/label/id_maps.h"
+#include "splat/id_maps.h"
 #include "splat/label/palette.h"
 #include "splat/ply.h"
 
@@ -24,14 +25,9 @@ using json = nlohmann::json;
 void VoteRunOptions::Check() const {
   scene.Check();
   vote.Check();
+  if (model.empty()) throw std::invalid_argument("the stage-one model is not set");
   if (id_maps.empty()) throw std::invalid_argument("the ID map folder name is empty");
   if (preview_views < 0) throw std::invalid_argument("preview_views must be >= 0");
-}
-
-CheckpointModel read_model_file(const fs::path& file) {
-  if (!fs::is_regular_file(file)) throw InputError(file, "model file not found");
-  if (file.extension() == ".ply") return {read_gaussian_ply(file), 0, kMaxShDegree};
-  return read_checkpoint_model(file);
 }
 
 namespace {
@@ -181,10 +177,10 @@ class RenderStatePool {
 
 }  // namespace
 
-VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& work, const VoteRunOptions& o) {
+VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const VoteRunOptions& o) {
   o.Check();
   const auto t0 = std::chrono::steady_clock::now();
-  const fs::path model_file = o.model.empty() ? work / "checkpoints" / "latest.ckpt" : o.model;
+  const fs::path& model_file = o.model;
   CheckpointModel stage_one = read_model_file(model_file);
   GaussianModel& model = stage_one.model;
   const auto scene = Scene::load(scene_dir, o.scene);
@@ -243,7 +239,6 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& work, const 
   model.labels = votes.labels();
   model.has_labels = true;
 
-  const fs::path out = work / "vote";
   json summary =
       summary_json(model, votes, views_per_id, read_object_names(folder / "objects.json"), result);
   reorder_gaussians(model, inverse_order(order));

@@ -1,6 +1,7 @@
 #pragma once
 // A whole voting run, as op2gs-vote performs it: labels for every Gaussian of
-// the stage-one model from the scene's ID maps, into <work>/vote/:
+// the stage-one model from the scene's ID maps, into its output folder
+// (<work>/vote/ in a work folder, splat/work_layout.h):
 //
 //   point_cloud.ply          the model with the label property
 //   summary.json             objects found, Gaussians and views per object,
@@ -17,15 +18,14 @@
 
 #include "splat/label/vote.h"
 #include "splat/scene.h"
-#include "splat/train/trainer.h"
+#include "splat/view_split.h"
 
 namespace splat {
 
 struct VoteRunOptions {
   SceneOptions scene;  // the resolution of the baseline maps and previews
   SplitRule split = SplitRule::kAuto;
-  // The stage-one model: a checkpoint (.ckpt) or a PLY. Empty:
-  // <work>/checkpoints/latest.ckpt.
+  // The stage-one model: a checkpoint (.ckpt) or a PLY.
   std::filesystem::path model;
   std::string id_maps = "sam2";  // folder of ID maps inside the scene
   VoteOptions vote;
@@ -48,10 +48,6 @@ struct VoteRunResult {
 };
 
 VoteRunResult run_voting(const std::filesystem::path& scene_dir,
-                         const std::filesystem::path& work_dir, const VoteRunOptions& options);
-
-// The model a later stage starts from: a checkpoint (.ckpt) or a PLY. The SH
-// degree is the checkpoint's active degree, or 3 for a PLY.
-CheckpointModel read_model_file(const std::filesystem::path& file);
+                         const std::filesystem::path& out_dir, const VoteRunOptions& options);
 
 }  // namespace splat

@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "splat/atomic_file.h"
+#include "splat/checkpoint.h"
 #include "splat/clip/clip_model.h"
 #include "splat/error.h"
-#include "splat/label/vote_run.h"
 #include "splat/render/renderer.h"
 
 namespace splat {

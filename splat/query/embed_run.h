@@ -19,7 +19,7 @@
 
 #include "splat/image.h"
 #include "splat/scene.h"
-#include "splat/train/trainer.h"
+#include "splat/view_split.h"
 
 namespace splat {
 

@@ -15,6 +15,7 @@
 #include "splat/colmap_model.h"
 #include "splat/error.h"
 #include "splat/image.h"
+#include "splat/photo_cameras.h"
 #include "splat/sfm/alignment.h"
 #include "splat/sfm/colmap_database.h"
 #include "splat/sfm/llff.h"

@@ -32,9 +32,6 @@
 
 namespace splat {
 
-// The folder of <out>/scene that records the photos' cameras.
-inline constexpr char kPhotoCamerasDir[] = "photo_cameras";
-
 enum class SfmMatcher { kAuto, kExhaustive, kSequential };
 
 struct SfmOptions {

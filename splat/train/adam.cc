@@ -7,44 +7,9 @@
 #include <ostream>
 #include <stdexcept>
 
-#include "splat/train/binary_io.h"
+#include "splat/binary_io.h"
 
 namespace splat {
-
-const char* group_name(ParamGroup g) {
-  static const char* names[] = {"means",  "sh_dc",     "sh_rest",         "opacity",
-                                "scales", "rotations", "instance_opacity"};
-  return names[int(g)];
-}
-
-int group_width(ParamGroup g) {
-  static const int widths[] = {3, 3, kShRestFloats, 1, 3, 4, 1};
-  return widths[int(g)];
-}
-
-std::vector<float>& group_values(GaussianModel& m, ParamGroup g) {
-  switch (g) {
-    case ParamGroup::kMeans:
-      return m.means;
-    case ParamGroup::kShDc:
-      return m.sh_dc;
-    case ParamGroup::kShRest:
-      return m.sh_rest;
-    case ParamGroup::kOpacity:
-      return m.opacity_logits;
-    case ParamGroup::kScales:
-      return m.log_scales;
-    case ParamGroup::kRotations:
-      return m.rotations;
-    case ParamGroup::kInstanceOpacity:
-      return m.instance_opacity_logits;
-  }
-  throw std::logic_error("bad group");
-}
-
-const std::vector<float>& group_values(const GaussianModel& m, ParamGroup g) {
-  return group_values(const_cast<GaussianModel&>(m), g);
-}
 
 const std::vector<float>& group_gradients(const GaussianGradients& g, ParamGroup group) {
   switch (group) {
@@ -117,8 +82,7 @@ void GaussianAdam::step(GaussianModel& model, const GaussianGradients& grads,
     const AdamStep a{b1, b2, step_size, inv_bc2_sqrt, eps};
     if (active == width) {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, p.size(), 1 << 16), [&](const auto& r) {
-        adam_update(&p[r.begin()], &grad[r.begin()], &s.m[r.begin()], &s.v[r.begin()],
-                    r.size(), a);
+        adam_update(&p[r.begin()], &grad[r.begin()], &s.m[r.begin()], &s.v[r.begin()], r.size(), a);
       });
     } else {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, size_, 4096), [&](const auto& r) {

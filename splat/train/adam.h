@@ -14,15 +14,7 @@
 
 namespace splat {
 
-enum class ParamGroup { kMeans, kShDc, kShRest, kOpacity, kScales, kRotations, kInstanceOpacity };
-inline constexpr int kParamGroups = 7;
-const char* group_name(ParamGroup g);
-// Floats per Gaussian in each group.
-int group_width(ParamGroup g);
-
-// The model's and the gradients' array of a group.
-std::vector<float>& group_values(GaussianModel& m, ParamGroup g);
-const std::vector<float>& group_values(const GaussianModel& m, ParamGroup g);
+// The gradients' array of a parameter group (the model's: group_values).
 const std::vector<float>& group_gradients(const GaussianGradients& g, ParamGroup group);
 
 struct AdamOptions {

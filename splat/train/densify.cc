@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "splat/train/binary_io.h"
+#include "splat/binary_io.h"
 
 namespace splat {
 
@@ -22,30 +22,12 @@ void append_copy(GaussianModel& m, size_t i) {
   m.labels[n] = m.labels[i];
 }
 
-// Keeps, in order, the entries i of v (w values each) with keep[i] != 0.
-template <typename T>
-void compact(std::vector<T>& v, size_t w, const std::vector<uint8_t>& keep) {
-  size_t out = 0;
-  for (size_t i = 0; i < keep.size(); ++i) {
-    if (!keep[i]) continue;
-    for (size_t k = 0; k < w; ++k) v[w * out + k] = v[w * i + k];
-    ++out;
-  }
-  v.resize(w * out);
-}
-
 float max_scale(const GaussianModel& m, size_t i) {
   return std::exp(
       std::max({m.log_scales[3 * i], m.log_scales[3 * i + 1], m.log_scales[3 * i + 2]}));
 }
 
 }  // namespace
-
-void keep_gaussians(GaussianModel& m, const std::vector<uint8_t>& keep) {
-  for (int g = 0; g < kParamGroups; ++g)
-    compact(group_values(m, ParamGroup(g)), size_t(group_width(ParamGroup(g))), keep);
-  compact(m.labels, 1, keep);
-}
 
 void DensificationStats::reset(size_t n) {
   grad_accum.assign(n, 0.f);
@@ -84,9 +66,9 @@ size_t prune(GaussianModel& model, GaussianAdam& adam, DensificationStats& stats
   }
   keep_gaussians(model, keep);
   adam.keep(keep);
-  compact(stats.grad_accum, 1, keep);
-  compact(stats.count, 1, keep);
-  compact(stats.max_radius, 1, keep);
+  keep_entries(stats.grad_accum, 1, keep);
+  keep_entries(stats.count, 1, keep);
+  keep_entries(stats.max_radius, 1, keep);
   return removed;
 }
 

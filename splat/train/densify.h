@@ -62,8 +62,4 @@ size_t prune(GaussianModel& model, GaussianAdam& adam, DensificationStats& stats
 // group zeroed.
 void reset_opacity(GaussianModel& model, GaussianAdam& adam, float max_opacity = 0.01f);
 
-// Keeps, in order, the Gaussians i with keep[i] != 0 (every parameter and
-// the label).
-void keep_gaussians(GaussianModel& m, const std::vector<uint8_t>& keep);
-
 }  // namespace splat

@@ -27,9 +27,4 @@ struct ImageLoss {
 ImageLoss image_loss(std::span<const float> rendered, const ImageRGB& target,
                      const ImageLossOptions& options, std::vector<float>* grad);
 
-// Mean SSIM of two RGB images (the reference's window and constants), and
-// PSNR in dB of images in [0, 1].
-double ssim(std::span<const float> a, std::span<const float> b, int width, int height);
-double psnr(std::span<const float> a, std::span<const float> b);
-
 }  // namespace splat

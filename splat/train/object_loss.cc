@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "splat/label/id_maps.h"
+#include "splat/id_maps.h"
 
 namespace splat {
 

@@ -12,6 +12,7 @@
 #include "splat/error.h"
 #include "splat/ply.h"
 #include "splat/train/training_log.h"
+#include "splat/work_layout.h"
 
 namespace splat {
 namespace fs = std::filesystem;
@@ -46,10 +47,8 @@ json metrics_json(const std::vector<ViewMetrics>& metrics, int iteration,
           {"views", views}};
 }
 
-void write_ply_at(const Trainer& t, const fs::path& work) {
-  write_gaussian_ply(
-      work / "point_cloud" / fmt::format("iteration_{}", t.iteration()) / "point_cloud.ply",
-      t.model());
+void write_ply_at(const Trainer& t, const TrainingLayout& out) {
+  write_gaussian_ply(out.point_cloud(t.iteration()), t.model());
 }
 
 // The labels of a labelled model, checked against the model they are for.
@@ -67,7 +66,7 @@ std::vector<int32_t> read_labels(const fs::path& file, const GaussianModel& mode
 }  // namespace
 
 int last_opacity_reset(const fs::path& work, int iteration) {
-  const fs::path log = work / "train_log.jsonl";
+  const fs::path log = TrainingLayout{work}.log();
   int last = -1;
   if (fs::exists(log)) {
     std::ifstream in(log);
@@ -91,7 +90,8 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
   o.Check();
   const auto t0 = std::chrono::steady_clock::now();
   Trainer trainer(scene_dir, o.train);
-  const fs::path checkpoint = work / "checkpoints" / "latest.ckpt";
+  const TrainingLayout out{work};
+  const fs::path checkpoint = out.latest_checkpoint();
   if (o.resume) {
     if (!fs::exists(checkpoint)) throw InputError(checkpoint, "no checkpoint to resume from");
     trainer.load_checkpoint(checkpoint);
@@ -114,7 +114,7 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
                  trainer.split().rule);
   }
   fs::create_directories(work);
-  TrainingLog log(work / "train_log.jsonl", trainer.iteration());
+  TrainingLog log(out.log(), trainer.iteration());
   ProgressBar bar(trainer.iteration(), o.stop_at);
   auto is_in = [](const std::vector<int>& v, int it) {
     return std::find(v.begin(), v.end(), it) != v.end();
@@ -127,20 +127,20 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
     bar.update(s);
     if (s.iteration % o.checkpoint_every == 0 && s.iteration != o.stop_at)
       trainer.save_checkpoint(checkpoint);
-    if (is_in(o.ply_at, s.iteration) && s.iteration != o.stop_at) write_ply_at(trainer, work);
+    if (is_in(o.ply_at, s.iteration) && s.iteration != o.stop_at) write_ply_at(trainer, out);
     if (is_in(o.test_at, s.iteration) && s.iteration != o.stop_at && !trainer.split().test.empty())
       log.record_test(s.iteration, trainer.evaluate(trainer.split().test));
   });
   bar.finish();
   trainer.save_checkpoint(checkpoint);
-  write_ply_at(trainer, work);
+  write_ply_at(trainer, out);
 
   const std::vector<ViewMetrics> metrics =
-      trainer.evaluate(trainer.split().test, work / "test" / "renders");
+      trainer.evaluate(trainer.split().test, out.test_renders());
   if (!metrics.empty()) log.record_test(trainer.iteration(), metrics);
   const json m = metrics_json(metrics, trainer.iteration(), trainer.split().rule);
-  write_text_atomically(work / "metrics.json", m.dump(2) + "\n");
-  plot_training_curve(work / "train_log.jsonl", work / "training_curve.png");
+  write_text_atomically(out.metrics(), m.dump(2) + "\n");
+  plot_training_curve(out.log(), out.curve());
 
   TrainRunResult r;
   r.iteration = trainer.iteration();

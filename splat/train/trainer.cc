@@ -8,9 +8,10 @@
 #include <sstream>
 
 #include "splat/atomic_file.h"
+#include "splat/binary_io.h"
 #include "splat/error.h"
-#include "splat/label/id_maps.h"
-#include "splat/train/binary_io.h"
+#include "splat/id_maps.h"
+#include "splat/image_quality.h"
 #include "splat/train/initialize.h"
 
 namespace splat {
@@ -28,26 +29,6 @@ void TrainOptions::Check() const {
     if (!(lr >= 0)) fail("learning rates must be >= 0");
   if (!(loss.lambda_ssim >= 0 && loss.lambda_ssim <= 1)) fail("lambda_ssim must be in [0, 1]");
   object_loss.Check();
-}
-
-ViewSplit split_views(const Scene& scene, SplitRule rule) {
-  ViewSplit s;
-  const fs::path train_dir = scene.root() / "images_train";
-  if (rule == SplitRule::kAuto)
-    rule = fs::is_directory(train_dir) ? SplitRule::kLerfMask : SplitRule::kEvery8;
-  const auto& views = scene.views();
-  for (size_t i = 0; i < views.size(); ++i) {
-    bool test = false;
-    if (rule == SplitRule::kLerfMask) test = !fs::exists(train_dir / views[i].name);
-    if (rule == SplitRule::kEvery8) test = i % 8 == 0;
-    (test ? s.test : s.train).push_back(i);
-  }
-  s.rule = rule == SplitRule::kLerfMask ? "lerf-mask (images_train/)"
-           : rule == SplitRule::kEvery8 ? "every 8th view"
-                                        : "all views";
-  if (s.train.empty())
-    throw InputError(train_dir, "no training views (images_train/ matches no image of the model)");
-  return s;
 }
 
 Trainer::Trainer(const fs::path& scene_dir, const TrainOptions& options)
@@ -213,32 +194,9 @@ std::vector<ViewMetrics> Trainer::evaluate(const std::vector<size_t>& views,
 }
 
 // ------------------------------------------------------------ checkpoint ---
+// The model first (splat/checkpoint.h), then the trainer's own state.
 
 namespace {
-constexpr char kMagic[8] = {'O', 'P', '2', 'G', 'S', 'C', 'K', 'P'};
-constexpr uint32_t kVersion = 1;
-
-void write_model(std::ostream& out, const GaussianModel& m) {
-  for (int g = 0; g < kParamGroups; ++g) write_vector(out, group_values(m, ParamGroup(g)));
-  write_vector(out, m.labels);
-  write_pod(out, uint8_t(m.has_instance_opacity));
-  write_pod(out, uint8_t(m.has_labels));
-}
-
-GaussianModel read_model(std::istream& in) {
-  GaussianModel m;
-  for (int g = 0; g < kParamGroups; ++g) group_values(m, ParamGroup(g)) = read_vector<float>(in);
-  m.labels = read_vector<int32_t>(in);
-  m.has_instance_opacity = read_pod<uint8_t>(in);
-  m.has_labels = read_pod<uint8_t>(in);
-  const size_t n = m.opacity_logits.size();
-  for (int g = 0; g < kParamGroups; ++g)
-    if (group_values(m, ParamGroup(g)).size() != size_t(group_width(ParamGroup(g))) * n)
-      throw std::runtime_error(std::string("inconsistent array ") + group_name(ParamGroup(g)));
-  if (m.labels.size() != n) throw std::runtime_error("inconsistent labels");
-  return m;
-}
-
 bool all_finite(const GaussianModel& m) {
   for (int g = 0; g < kParamGroups; ++g)
     for (float x : group_values(m, ParamGroup(g)))
@@ -254,11 +212,7 @@ void Trainer::save_checkpoint(const fs::path& file) const {
                     "checkpoint {} was not written",
                     iteration_, file.string()));
   std::ostringstream out(std::ios::binary);
-  out.write(kMagic, 8);
-  write_pod(out, kVersion);
-  write_pod(out, int32_t(iteration_));
-  write_pod(out, int32_t(sh_degree_));
-  write_model(out, model_);
+  write_checkpoint_head(out, model_, iteration_, sh_degree_);
   adam_.save(out);
   stats_.save(out);
   std::ostringstream rng;
@@ -275,43 +229,6 @@ void Trainer::save_checkpoint(const fs::path& file) const {
   }
   write_vector(out, names);
   write_text_atomically(file, out.str());
-}
-
-namespace {
-// Reads the header and, if with_model, the model; leaves `in` after them.
-CheckpointModel read_checkpoint_head(std::istream& in, const fs::path& file,
-                                     bool with_model = true) {
-  char magic[8];
-  if (!in.read(magic, 8) || !std::equal(magic, magic + 8, kMagic))
-    throw InputError(file, "not an op2gs checkpoint");
-  if (read_pod<uint32_t>(in) != kVersion) throw InputError(file, "unsupported checkpoint version");
-  CheckpointModel c;
-  c.iteration = read_pod<int32_t>(in);
-  c.sh_degree = read_pod<int32_t>(in);
-  if (with_model) c.model = read_model(in);
-  return c;
-}
-
-CheckpointModel read_checkpoint(std::istream& in, const fs::path& file, bool with_model) {
-  try {
-    return read_checkpoint_head(in, file, with_model);
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw InputError(file, std::string("corrupt checkpoint: ") + e.what());
-  }
-}
-}  // namespace
-
-CheckpointModel read_checkpoint_model(const fs::path& file) {
-  std::istringstream in(read_text_file(file), std::ios::binary);
-  return read_checkpoint(in, file, true);
-}
-
-int read_checkpoint_iteration(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file, "cannot read the checkpoint");
-  return read_checkpoint(in, file, false).iteration;
 }
 
 void Trainer::load_checkpoint(const fs::path& file) {

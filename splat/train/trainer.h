@@ -1,6 +1,6 @@
 #pragma once
 // Stage one: the reference 3DGS training recipe
-// (../shared/spec/gaussian-splatting.md) on a scene folder.
+// (docs/gaussian-splatting.md) on a scene folder.
 //
 // One iteration, as the reference's train.py orders it (iterations count
 // from 1): set the position learning rate; every 1,000 iterations raise the SH
@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "splat/checkpoint.h"
 #include "splat/gaussians.h"
 #include "splat/render/renderer.h"
 #include "splat/scene.h"
@@ -26,10 +27,9 @@
 #include "splat/train/densify.h"
 #include "splat/train/image_loss.h"
 #include "splat/train/object_loss.h"
+#include "splat/view_split.h"
 
 namespace splat {
-
-enum class SplitRule { kAuto, kLerfMask, kEvery8, kAll };
 
 struct TrainOptions {
   SceneOptions scene;
@@ -62,14 +62,6 @@ struct TrainOptions {
   void Check() const;
 };
 
-// The training and test views of a scene under a split rule, by index into
-// Scene::views() (sorted by name).
-struct ViewSplit {
-  std::vector<size_t> train, test;
-  std::string rule;  // which rule was applied
-};
-ViewSplit split_views(const Scene& scene, SplitRule rule);
-
 struct IterationStats {
   int iteration = 0;
   ImageLoss loss;
@@ -93,17 +85,6 @@ class TrainingDiverged : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
-
-// The model stored in a checkpoint, with the iteration and active SH degree
-// it was saved at (for the stages after training, which need no optimiser).
-struct CheckpointModel {
-  GaussianModel model;
-  int iteration = 0;
-  int sh_degree = 0;
-};
-CheckpointModel read_checkpoint_model(const std::filesystem::path& file);
-// The iteration a checkpoint was saved at, from its header alone.
-int read_checkpoint_iteration(const std::filesystem::path& file);
 
 class Trainer {
  public:

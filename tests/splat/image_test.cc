@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "splat/error.h"
+#include "splat/id_maps.h"
 #include "tests/test_util.h"
 
 namespace splat {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "splat/error.h"
+#include "splat/id_maps.h"
 #include "tests/test_util.h"
 
 namespace splat {

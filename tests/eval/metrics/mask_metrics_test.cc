@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "splat/id_maps.h"
 #include "splat/image.h"
 #include "tests/test_util.h"
 

@@ -7,6 +7,7 @@
 
 #include "eval/synthetic/generator.h"
 #include "splat/error.h"
+#include "splat/id_maps.h"
 #include "splat/image.h"
 #include "tests/test_util.h"
 #include "tests/tiny_scene.h"

@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "eval/metrics/mask_metrics.h"
+#include "splat/camera_distortion.h"
 #include "splat/sfm/sfm_run.h"
-#include "splat/sfm/undistort_id_maps.h"
 #include "tests/test_util.h"
 
 namespace eval {

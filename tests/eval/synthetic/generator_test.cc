@@ -9,6 +9,7 @@
 
 #include "eval/synthetic/raytracer.h"
 #include "splat/colmap_model.h"
+#include "splat/id_maps.h"
 #include "splat/image.h"
 #include "splat/scene.h"
 #include "tests/test_util.h"

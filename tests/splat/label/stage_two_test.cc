@@ -13,14 +13,17 @@
 #include "eval/synthetic/generator.h"
 #include "splat/colmap_model.h"
 #include "splat/error.h"
+#include "splat/id_maps.h"
 #include "splat/image.h"
+#include "splat/label/object_ply.h"
 #include "splat/label/render_run.h"
 #include "splat/label/vote_run.h"
+#include "splat/photo_cameras.h"
 #include "splat/ply.h"
 #include "splat/query/embed_run.h"
 #include "splat/query/query_run.h"
-#include "splat/sfm/sfm_run.h"
 #include "splat/train/train_run.h"
+#include "splat/work_layout.h"
 #include "tests/test_util.h"
 #include "tests/tiny_scene.h"
 
@@ -45,7 +48,9 @@ const fs::path& stage_one_work() {
     t.train.densify_from = 100;
     t.train.densify_every = 50;
     run_training(d / "scene", d / "work", t);
-    run_voting(d / "scene", d / "work", VoteRunOptions{});
+    VoteRunOptions vote;
+    vote.model = WorkLayout{d / "work"}.stage_one().latest_checkpoint();
+    run_voting(d / "scene", WorkLayout{d / "work"}.vote(), vote);
     return d;
   }();
   return dir;

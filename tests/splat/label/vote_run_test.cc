@@ -11,6 +11,7 @@
 
 #include "eval/synthetic/generator.h"
 #include "splat/error.h"
+#include "splat/id_maps.h"
 #include "splat/ply.h"
 #include "splat/train/initialize.h"
 #include "tests/test_util.h"
@@ -49,7 +50,7 @@ VoteRunOptions options_for(const std::string& id_maps) {
 
 TEST(VoteRun, WritesTheLabelledModelSummaryPreviewsAndBaselineMaps) {
   TempDir work;
-  const VoteRunResult r = run_voting(tiny_scene(), work.path(), options_for("instance_gt"));
+  const VoteRunResult r = run_voting(tiny_scene(), work / "vote", options_for("instance_gt"));
   EXPECT_EQ(r.views_used, 14u);  // 16 views, every 8th is a test view
   const GaussianModel m = read_gaussian_ply(work / "vote/point_cloud.ply");
   ASSERT_TRUE(m.has_labels);
@@ -74,8 +75,8 @@ TEST(VoteRun, WritesTheLabelledModelSummaryPreviewsAndBaselineMaps) {
 
 TEST(VoteRun, CorruptedMapsAgreeLessThanExactOnes) {
   TempDir exact, corrupted;
-  const VoteRunResult a = run_voting(tiny_scene(), exact.path(), options_for("instance_gt"));
-  const VoteRunResult b = run_voting(tiny_scene(), corrupted.path(), options_for("sam2"));
+  const VoteRunResult a = run_voting(tiny_scene(), exact / "vote", options_for("instance_gt"));
+  const VoteRunResult b = run_voting(tiny_scene(), corrupted / "vote", options_for("sam2"));
   EXPECT_LT(b.vote_agreement, a.vote_agreement);
   const auto summary = read_json(corrupted / "vote/summary.json");
   bool named = false;
@@ -96,7 +97,7 @@ TEST(VoteRun, MissingMapIsNamedUnlessAllowed) {
   fs::remove(maps / "frame_00003.png");
   TempDir work;
   try {
-    run_voting(tiny_scene(), work.path(), options_for("maps_missing"));
+    run_voting(tiny_scene(), work / "vote", options_for("maps_missing"));
     FAIL() << "expected an error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("frame_00003"), std::string::npos) << e.what();
@@ -105,7 +106,7 @@ TEST(VoteRun, MissingMapIsNamedUnlessAllowed) {
   EXPECT_FALSE(fs::exists(work / "vote/point_cloud.ply"));
   VoteRunOptions o = options_for("maps_missing");
   o.allow_missing = true;
-  const VoteRunResult r = run_voting(tiny_scene(), work.path(), o);
+  const VoteRunResult r = run_voting(tiny_scene(), work / "vote", o);
   EXPECT_EQ(r.views_used, 13u);
   ASSERT_EQ(r.views_skipped.size(), 1u);
   EXPECT_EQ(r.views_skipped[0], "frame_00003.png");
@@ -123,11 +124,11 @@ TEST(VoteRun, MapsOfAnotherSizeAreScaledAndOtherAspectRatiosRejected) {
     write_id_map(f.path(), half, 8);
   }
   TempDir work;
-  EXPECT_GT(run_voting(tiny_scene(), work.path(), options_for("maps_resized")).vote_agreement,
+  EXPECT_GT(run_voting(tiny_scene(), work / "vote", options_for("maps_resized")).vote_agreement,
             0.85);
   write_id_map(maps / "frame_00005.png", IdMap(50, 36), 8);
   try {
-    run_voting(tiny_scene(), work.path(), options_for("maps_resized"));
+    run_voting(tiny_scene(), work / "vote", options_for("maps_resized"));
     FAIL() << "expected an error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("frame_00005.png"), std::string::npos) << e.what();
@@ -140,7 +141,7 @@ TEST(VoteRun, UnreadableMapIsNamed) {
   testing_util::write_file(maps / "frame_00002.png", "not a png");
   TempDir work;
   try {
-    run_voting(tiny_scene(), work.path(), options_for("maps_broken"));
+    run_voting(tiny_scene(), work / "vote", options_for("maps_broken"));
     FAIL() << "expected an error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("frame_00002.png"), std::string::npos) << e.what();

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "splat/label/id_maps.h"
+#include "splat/id_maps.h"
 
 namespace splat {
 namespace {

@@ -8,7 +8,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "splat/camera_distortion.h"
 #include "splat/error.h"
+#include "splat/id_maps.h"
 #include "splat/sfm/colmap_command.h"
 #include "tests/test_util.h"
 

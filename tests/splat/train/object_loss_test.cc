@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "splat/image_quality.h"
 #include "splat/render/renderer.h"
 #include "splat/train/adam.h"
 #include "splat/train/image_loss.h"

@@ -12,6 +12,15 @@
 
 namespace splat {
 
+// ID maps are single-channel 8- or 16-bit PNGs (docs/inputs.md),
+// or palette PNGs whose indices are the IDs (SAM2's video tools write those;
+// see png_indexed.h). Anything with more than one channel, or not an integer
+// type of 8/16 bits, is rejected with an InputError naming the file.
+IdMap read_id_map(const std::filesystem::path& file);
+// Writes a single-channel PNG atomically with bits = 8 or 16; 8 bits requires
+// every ID <= 255.
+void write_id_map(const std::filesystem::path& file, const IdMap& map, int bits);
+
 // <folder>/<stem of view_name>.png; empty if there is no such file.
 std::filesystem::path find_id_map(const std::filesystem::path& folder,
                                   const std::string& view_name);

@@ -17,6 +17,9 @@
 
 namespace splat {
 
+// The folder of a scene that records the photos' cameras.
+inline constexpr char kPhotoCamerasDir[] = "photo_cameras";
+
 class PhotoCameras {
  public:
   // Empty when the scene has no photo_cameras/ (its photos are its views).

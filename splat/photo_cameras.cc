@@ -1,7 +1,6 @@
-#include "splat/sfm/photo_cameras.h"
+#include "splat/photo_cameras.h"
 
-#include "splat/sfm/sfm_run.h"
-#include "splat/sfm/undistort_id_maps.h"
+#include "splat/camera_distortion.h"
 
 namespace splat {
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-#include "splat/label/id_maps.h"
+#include "splat/id_maps.h"
 
 #include <fmt/format.h>
 
@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "splat/error.h"
+#include "splat/image_file.h"
+#include "splat/png_indexed.h"
 
 namespace splat {
 namespace fs = std::filesystem;
@@ -69,6 +71,46 @@ IdMap read_id_map_for_view(const fs::path& file, int width, int height) {
   const IdMap map = read_id_map(file);
   check_id_map_aspect(file, map, width, height);
   return resize_id_map_nearest(map, width, height);
+}
+
+IdMap read_id_map(const fs::path& file) {
+  if (auto indexed = read_png_palette_indices(file)) return std::move(*indexed);
+  auto in = open_image_input(file);
+  const auto& spec = in->spec();
+  if (spec.nchannels != 1)
+    throw InputError(file,
+                     fmt::format("ID map must be single-channel, has {} channels", spec.nchannels));
+  const auto base = OIIO::TypeDesc::BASETYPE(spec.format.basetype);
+  IdMap map(spec.width, spec.height);
+  // Read in the file's own integer type: converting 8 to 16 bit through
+  // OpenImageIO would rescale the IDs (255 -> 65535).
+  if (base == OIIO::TypeDesc::UINT8) {
+    const auto px = read_pixels<uint8_t>(*in, OIIO::TypeDesc::UINT8, file);
+    std::copy(px.begin(), px.end(), map.ids.begin());
+  } else if (base == OIIO::TypeDesc::UINT16) {
+    map.ids = read_pixels<uint16_t>(*in, OIIO::TypeDesc::UINT16, file);
+  } else {
+    throw InputError(file, fmt::format("ID map must be 8- or 16-bit unsigned integers, is {}",
+                                       spec.format.c_str()));
+  }
+  return map;
+}
+
+void write_id_map(const fs::path& file, const IdMap& map, int bits) {
+  if (bits == 16) {
+    OIIO::ImageSpec spec(map.width, map.height, 1, OIIO::TypeDesc::UINT16);
+    write_image_with_oiio(file, spec, OIIO::TypeDesc::UINT16, map.ids.data());
+    return;
+  }
+  if (bits != 8) throw std::invalid_argument("write_id_map: bits must be 8 or 16");
+  std::vector<uint8_t> px(map.ids.size());
+  for (size_t i = 0; i < px.size(); ++i) {
+    if (map.ids[i] > 255)
+      throw InputError(file, fmt::format("ID {} does not fit in an 8-bit ID map", map.ids[i]));
+    px[i] = uint8_t(map.ids[i]);
+  }
+  OIIO::ImageSpec spec(map.width, map.height, 1, OIIO::TypeDesc::UINT8);
+  write_image_with_oiio(file, spec, OIIO::TypeDesc::UINT8, px.data());
 }
 
 }  // namespace splat

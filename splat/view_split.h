@@ -1,0 +1,24 @@
+#pragma once
+// The train/test split of a scene's views. LERF-Mask names its training views
+// in images_train/; other scenes hold out every 8th view, as the reference
+// 3DGS evaluation does (docs/evaluation.md).
+
+#include <string>
+#include <vector>
+
+#include "splat/scene.h"
+
+namespace splat {
+
+enum class SplitRule { kAuto, kLerfMask, kEvery8, kAll };
+
+// The training and test views of a scene under a split rule, by index into
+// Scene::views() (sorted by name). kAuto: images_train/ if present, else every
+// 8th. Throws InputError when no view is left for training.
+struct ViewSplit {
+  std::vector<size_t> train, test;
+  std::string rule;  // which rule was applied
+};
+ViewSplit split_views(const Scene& scene, SplitRule rule);
+
+}  // namespace splat
