@@ -106,6 +106,109 @@ Protocol protocol_of(const fs::path& scene, Protocol p) {
   throw splat::InputError(scene, "no ground truth (neither test_mask/ nor segmentations/)");
 }
 
+// The mask scoring of every set of predictions in every mode (oracle, and
+// query when the query answers are given): the result rows and each mode's
+// scores, for the LERF-Mask protocol or the 3DOVS metric.
+class MaskScoring {
+ public:
+  MaskScoring(const fs::path& scene, const EvalRunOptions& o, EvalRunResult& r)
+      : scene_(scene), o_(o), r_(r), photos_(scene) {
+    modes_.push_back({"oracle", nullptr});
+    if (!o.query_results.empty()) {
+      for (const splat::QueryAnswer& a : splat::read_query_results(o.query_results).answers)
+        selected_[a.query] = a.object;
+      modes_.push_back({"query", &selected_});
+    }
+  }
+
+  // LERF-Mask's script on test_mask/, or on the 3DOVS masks (on_ovs). Returns
+  // the protocol's description for metrics.json.
+  json score_lerf_mask(bool on_ovs) {
+    TruthMasks truths(o_.truth_width);
+    const LerfMaskGroundTruth gt = on_ovs
+                                       ? lerf_mask_from_ovs(read_ovs_ground_truth(scene_), &truths)
+                                       : read_lerf_mask_ground_truth(scene_);
+    std::vector<fs::path> truth_files;
+    for (const auto& view : gt.masks)
+      for (const auto& [query, file] : view) truth_files.push_back(file);
+    truths.prefetch(truth_files);
+    for (const NamedPredictions& p : o_.predictions) {
+      std::map<size_t, ObjectMasks> read;  // each view's predictions, read once for both modes
+      const auto masks_of = [&](size_t k) {
+        auto it = read.find(k);
+        if (it == read.end()) {
+          const std::string& view = gt.test_views[k];
+          it = read.emplace(k, photos_.to_photo(view, read_view_predictions(p.folder, view))).first;
+        }
+        return it->second;
+      };
+      for (const auto& [mode, objects] : modes_) {
+        const SceneScore s = objects
+                                 ? score_selected(gt, *objects, masks_of, o_.truth_width, &truths)
+                                 : score_oracle(gt, masks_of, o_.truth_width, &truths);
+        add_row(p, mode, s.miou, s.mbiou, score_json(gt, s));
+      }
+    }
+    return {{"protocol", on_ovs ? "lerf-mask script on 3dovs masks (IoU and boundary IoU)"
+                                : "lerf-mask (IoU and boundary IoU, dilation ratio 0.02)"},
+            {"truth_width", o_.truth_width},
+            {"test_views", gt.test_views}};
+  }
+
+  // The 3DOVS reference metric on segmentations/.
+  json score_ovs() {
+    const OvsGroundTruth gt = read_ovs_ground_truth(scene_);
+    std::vector<std::string> views;
+    for (size_t v : gt.views) views.push_back(gt.images[v]);
+    for (const NamedPredictions& p : o_.predictions)
+      for (const auto& [mode, objects] : modes_) {
+        const auto masks_of = [&](size_t i) {
+          return photos_.to_photo(views[i], read_view_predictions(p.folder, views[i]));
+        };
+        const OvsScore s =
+            objects ? score_ovs_selected(gt, *objects, masks_of) : score_ovs_oracle(gt, masks_of);
+        add_row(p, mode, s.miou, s.accuracy, ovs_json(gt, s));
+      }
+    return {{"protocol", "3dovs reference (one-hot argmax, per-class IoU, pixel accuracy)"},
+            {"test_views", views},
+            {"classes", gt.classes}};
+  }
+
+  const PhotoGeometry& photos() const { return photos_; }
+  const json& results() const { return results_; }
+  const json& query_results() const { return query_results_; }
+
+ private:
+  void add_row(const NamedPredictions& p, const std::string& mode, double miou, double second,
+               json scores) {
+    r_.names.push_back(p.name);
+    r_.modes.push_back(mode);
+    r_.miou.push_back(miou);
+    r_.second.push_back(second);
+    scores["folder"] = p.folder.string();
+    (mode == "oracle" ? results_ : query_results_)[p.name] = scores;
+  }
+
+  const fs::path& scene_;
+  const EvalRunOptions& o_;
+  EvalRunResult& r_;
+  const PhotoGeometry photos_;
+  QueryObjects selected_;
+  std::vector<std::pair<std::string, const QueryObjects*>> modes_;
+  json results_ = json::object(), query_results_ = json::object();
+};
+
+// The reconstruction's cameras against the true ones, after alignment.
+json pose_accuracy_json(const EvalRunOptions& o, EvalRunResult& r) {
+  const splat::PoseAccuracy acc = splat::pose_accuracy(splat::read_colmap_model(o.poses),
+                                                       splat::read_colmap_model(o.true_poses));
+  r.center_rmse = acc.center_rmse;
+  r.rotation_error_deg = acc.rotation_error_deg;
+  return {{"matched", acc.matched},
+          {"center_rmse", acc.center_rmse},
+          {"rotation_error_deg", acc.rotation_error_deg}};
+}
+
 }  // namespace
 
 std::vector<std::string> benchmark_queries(const fs::path& scene) {
@@ -117,92 +220,23 @@ std::vector<std::string> benchmark_queries(const fs::path& scene) {
 EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const EvalRunOptions& o) {
   o.Check();
   EvalRunResult r;
-  json results = json::object(), query_results = json::object(), metrics = json::object();
-  std::vector<std::pair<std::string, const QueryObjects*>> modes;
-  QueryObjects selected;
-  modes.push_back({"oracle", nullptr});
-  if (!o.query_results.empty()) {
-    for (const splat::QueryAnswer& a : splat::read_query_results(o.query_results).answers)
-      selected[a.query] = a.object;
-    modes.push_back({"query", &selected});
-  }
-  const auto add_row = [&](const NamedPredictions& p, const std::string& mode, double miou,
-                           double second, json scores) {
-    r.names.push_back(p.name);
-    r.modes.push_back(mode);
-    r.miou.push_back(miou);
-    r.second.push_back(second);
-    scores["folder"] = p.folder.string();
-    (mode == "oracle" ? results : query_results)[p.name] = scores;
-  };
-  const PhotoGeometry photos(scene);
-  if (o.predictions.empty()) {
-    // Only image quality or poses.
-  } else if ((r.protocol = protocol_of(scene, o.protocol)) != Protocol::kOvs) {
-    const bool on_ovs = r.protocol == Protocol::kOvsLerfMask;
-    TruthMasks truths(o.truth_width);
-    const LerfMaskGroundTruth gt = on_ovs
-                                       ? lerf_mask_from_ovs(read_ovs_ground_truth(scene), &truths)
-                                       : read_lerf_mask_ground_truth(scene);
-    std::vector<fs::path> truth_files;
-    for (const auto& view : gt.masks)
-      for (const auto& [query, file] : view) truth_files.push_back(file);
-    truths.prefetch(truth_files);
-    for (const NamedPredictions& p : o.predictions) {
-      std::map<size_t, ObjectMasks> read;  // each view's predictions, read once for both modes
-      const auto masks_of = [&](size_t k) {
-        auto it = read.find(k);
-        if (it == read.end()) {
-          const std::string& view = gt.test_views[k];
-          it = read.emplace(k, photos.to_photo(view, read_view_predictions(p.folder, view))).first;
-        }
-        return it->second;
-      };
-      for (const auto& [mode, objects] : modes) {
-        const SceneScore s = objects
-                                 ? score_selected(gt, *objects, masks_of, o.truth_width, &truths)
-                                 : score_oracle(gt, masks_of, o.truth_width, &truths);
-        add_row(p, mode, s.miou, s.mbiou, score_json(gt, s));
-      }
-    }
-    metrics = {{"protocol", on_ovs ? "lerf-mask script on 3dovs masks (IoU and boundary IoU)"
-                                   : "lerf-mask (IoU and boundary IoU, dilation ratio 0.02)"},
-               {"truth_width", o.truth_width},
-               {"test_views", gt.test_views}};
-  } else {
-    const OvsGroundTruth gt = read_ovs_ground_truth(scene);
-    std::vector<std::string> views;
-    for (size_t v : gt.views) views.push_back(gt.images[v]);
-    for (const NamedPredictions& p : o.predictions)
-      for (const auto& [mode, objects] : modes) {
-        const auto masks_of = [&](size_t i) {
-          return photos.to_photo(views[i], read_view_predictions(p.folder, views[i]));
-        };
-        const OvsScore s =
-            objects ? score_ovs_selected(gt, *objects, masks_of) : score_ovs_oracle(gt, masks_of);
-        add_row(p, mode, s.miou, s.accuracy, ovs_json(gt, s));
-      }
-    metrics = {{"protocol", "3dovs reference (one-hot argmax, per-class IoU, pixel accuracy)"},
-               {"test_views", views},
-               {"classes", gt.classes}};
+  MaskScoring scoring(scene, o, r);
+  json metrics = json::object();
+  if (!o.predictions.empty()) {
+    r.protocol = protocol_of(scene, o.protocol);
+    metrics = r.protocol == Protocol::kOvs
+                  ? scoring.score_ovs()
+                  : scoring.score_lerf_mask(r.protocol == Protocol::kOvsLerfMask);
   }
   if (!o.renders.empty()) metrics["image_quality"] = image_quality(scene, o.renders, r);
-  if (!o.poses.empty()) {
-    const splat::PoseAccuracy acc = splat::pose_accuracy(splat::read_colmap_model(o.poses),
-                                                         splat::read_colmap_model(o.true_poses));
-    r.center_rmse = acc.center_rmse;
-    r.rotation_error_deg = acc.rotation_error_deg;
-    metrics["pose_accuracy"] = {{"matched", acc.matched},
-                                {"center_rmse", acc.center_rmse},
-                                {"rotation_error_deg", acc.rotation_error_deg}};
-  }
+  if (!o.poses.empty()) metrics["pose_accuracy"] = pose_accuracy_json(o, r);
   metrics["scene"] = scene.string();
   metrics["mask_geometry"] =
-      photos.active() ? "photos (renders resampled from the undistorted views)" : "views";
+      scoring.photos().active() ? "photos (renders resampled from the undistorted views)" : "views";
   metrics["modes"] = o.query_results.empty() ? json{"oracle"} : json{"oracle", "query"};
-  if (!o.predictions.empty()) metrics["results"] = results;
+  if (!o.predictions.empty()) metrics["results"] = scoring.results();
   if (!o.query_results.empty()) {
-    metrics["query_results"] = query_results;
+    metrics["query_results"] = scoring.query_results();
     metrics["queries_from"] = o.query_results.string();
   }
   splat::write_text_atomically(out, metrics.dump(2) + "\n");

@@ -175,56 +175,56 @@ class RenderStatePool {
   std::vector<std::unique_ptr<RenderState>> free_;
 };
 
-}  // namespace
+// What the steps of a voting run share: the model, the scene and its split,
+// and the training views with an ID map (those without are skipped into
+// `skipped` when the options allow it).
+struct VotingRun {
+  VotingRun(const fs::path& scene_dir, const VoteRunOptions& options,
+            std::vector<std::string>& skipped)
+      : o(options),
+        stage_one(read_model_file(options.model)),
+        scene(Scene::load(scene_dir, options.scene)),
+        split(split_views(*scene, options.split)),
+        folder(scene->root() / options.id_maps),
+        used(views_with_maps(*scene, split.train, folder, options.allow_missing, skipped)),
+        cull(options.vote.visibility == VoteVisibility::kDepth) {}
 
-VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const VoteRunOptions& o) {
-  o.Check();
-  const auto t0 = std::chrono::steady_clock::now();
-  const fs::path& model_file = o.model;
-  CheckpointModel stage_one = read_model_file(model_file);
-  GaussianModel& model = stage_one.model;
-  const auto scene = Scene::load(scene_dir, o.scene);
-  const ViewSplit split = split_views(*scene, o.split);
-  const fs::path folder = scene->root() / o.id_maps;
-  VoteRunResult result;
-  const std::vector<size_t> used =
-      views_with_maps(*scene, split.train, folder, o.allow_missing, result.views_skipped);
-  spdlog::info("{} Gaussians (iteration {}); voting over {} training views with {}/", model.size(),
-               stage_one.iteration, used.size(), o.id_maps);
+  const VoteRunOptions& o;
+  CheckpointModel stage_one;
+  std::unique_ptr<Scene> scene;
+  ViewSplit split;
+  fs::path folder;           // of the ID maps
+  std::vector<size_t> used;  // training views with an ID map
+  CpuRenderer renderer;
+  bool cull;  // depth test, not the frustum only
+};
 
-  // Voting passes over every Gaussian in every view: in spatial order, its
-  // reads of the depth and ID maps and the depth render's tile lists hit the
-  // cache far more often. The model's own order is restored before writing.
-  const std::vector<uint32_t> order = spatial_order(model);
-  reorder_gaussians(model, order);
-
-  const CpuRenderer renderer;
-  const bool cull = o.vote.visibility == VoteVisibility::kDepth;
-  LabelVotes votes(model.size());
-  std::map<int, size_t> views_per_id;
+// Reading a map and rendering its depth run for several views at once;
+// votes are added one view at a time, in order.
+void collect_votes(VotingRun& run, LabelVotes& votes, std::map<int, size_t>& views_per_id) {
+  const GaussianModel& model = run.stage_one.model;
+  const VoteOptions& vote = run.o.vote;
   RenderStatePool states;
   size_t next = 0;
-  // Reading a map and rendering its depth run for several views at once;
-  // votes are added one view at a time, in order.
   tbb::parallel_pipeline(
       4, tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
                                         [&](tbb::flow_control& fc) -> size_t {
-                                          if (next == used.size()) fc.stop();
-                                          return next < used.size() ? used[next++] : 0;
+                                          if (next == run.used.size()) fc.stop();
+                                          return next < run.used.size() ? run.used[next++] : 0;
                                         }) &
              tbb::make_filter<size_t, std::shared_ptr<PreparedView>>(
                  tbb::filter_mode::parallel,
                  [&](size_t v) {
                    auto p = std::make_shared<PreparedView>();
-                   const View& view = scene->views()[v];
-                   const fs::path file = find_id_map(folder, view.name);
+                   const View& view = run.scene->views()[v];
+                   const fs::path file = find_id_map(run.folder, view.name);
                    p->view = v;
                    p->ids = read_id_map(file);
                    check_id_map_aspect(file, p->ids, view.camera.width, view.camera.height);
                    p->camera = view.camera.resized(p->ids.width, p->ids.height);
-                   if (cull) {
+                   if (run.cull) {
                      std::unique_ptr<RenderState> state = states.take();
-                     p->depth = render_depth_map(renderer, model, p->camera, o.vote, &state);
+                     p->depth = render_depth_map(run.renderer, model, p->camera, vote, &state);
                      states.give(std::move(state));
                    }
                    p->ids_present = ids_in_map(p->ids);
@@ -232,48 +232,77 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const V
                  }) &
              tbb::make_filter<std::shared_ptr<PreparedView>, void>(
                  tbb::filter_mode::serial_in_order, [&](const std::shared_ptr<PreparedView>& p) {
-                   votes.add_view(model, p->camera, p->ids, cull ? &p->depth : nullptr, o.vote);
+                   votes.add_view(model, p->camera, p->ids, run.cull ? &p->depth : nullptr, vote);
                    for (int32_t id : p->ids_present) ++views_per_id[id];
                  }));
-  result.views_used = used.size();
+}
+
+// Previews over a few training views, evenly spaced.
+void write_previews(const VotingRun& run, const fs::path& out) {
+  const size_t previews = std::min<size_t>(run.o.preview_views, run.used.size());
+  for (size_t k = 0; k < previews; ++k) {
+    const size_t v = run.used[k * run.used.size() / previews];
+    const Camera& cam = run.scene->views()[v].camera;
+    const GaussianModel& model = run.stage_one.model;
+    const DepthMap depth =
+        run.cull ? render_depth_map(run.renderer, model, cam, run.o.vote) : DepthMap{};
+    write_image_rgb(
+        out / "preview" / (stem_of(run.scene->views()[v].name) + ".png"),
+        label_preview(model, cam, *run.scene->image(v), run.cull ? &depth : nullptr, run.o.vote));
+  }
+}
+
+// The ablation's baseline label maps of the test views; returns their number.
+size_t write_baseline_maps(const VotingRun& run, const fs::path& out) {
+  RenderSettings settings;
+  settings.color = settings.depth = false;
+  settings.sh_degree = std::min(run.stage_one.sh_degree, kMaxShDegree);
+  settings.baseline_label_map = true;
+  for (size_t v : run.split.test) {
+    const View& view = run.scene->views()[v];
+    const RenderOutput r = run.renderer.render(run.stage_one.model, view.camera, settings);
+    write_label_map(out / "baseline", stem_of(view.name), r.baseline_label, r.width, r.height);
+  }
+  return run.split.test.size();
+}
+
+}  // namespace
+
+VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const VoteRunOptions& o) {
+  o.Check();
+  const auto t0 = std::chrono::steady_clock::now();
+  VoteRunResult result;
+  VotingRun run(scene_dir, o, result.views_skipped);
+  GaussianModel& model = run.stage_one.model;
+  spdlog::info("{} Gaussians (iteration {}); voting over {} training views with {}/", model.size(),
+               run.stage_one.iteration, run.used.size(), o.id_maps);
+
+  // Voting passes over every Gaussian in every view: in spatial order, its
+  // reads of the depth and ID maps and the depth render's tile lists hit the
+  // cache far more often. The model's own order is restored before writing.
+  const std::vector<uint32_t> order = spatial_order(model);
+  reorder_gaussians(model, order);
+  LabelVotes votes(model.size());
+  std::map<int, size_t> views_per_id;
+  collect_votes(run, votes, views_per_id);
+  result.views_used = run.used.size();
   model.labels = votes.labels();
   model.has_labels = true;
 
-  json summary =
-      summary_json(model, votes, views_per_id, read_object_names(folder / "objects.json"), result);
+  json summary = summary_json(model, votes, views_per_id,
+                              read_object_names(run.folder / "objects.json"), result);
   reorder_gaussians(model, inverse_order(order));
   write_gaussian_ply(out / "point_cloud.ply", model);
-  summary["model"] = model_file.string();
-  summary["iteration"] = stage_one.iteration;
-  summary["id_maps"] = folder.string();
+  summary["model"] = o.model.string();
+  summary["iteration"] = run.stage_one.iteration;
+  summary["id_maps"] = run.folder.string();
   summary["views_used"] = result.views_used;
   summary["views_skipped"] = result.views_skipped;
-  summary["visibility"] = cull ? "depth" : "frustum";
+  summary["visibility"] = run.cull ? "depth" : "frustum";
   summary["depth_tolerance"] = o.vote.depth_tolerance;
 
-  // Previews over a few training views, evenly spaced.
-  const size_t previews = std::min<size_t>(o.preview_views, used.size());
-  for (size_t k = 0; k < previews; ++k) {
-    const size_t v = used[k * used.size() / previews];
-    const Camera& cam = scene->views()[v].camera;
-    const DepthMap depth = cull ? render_depth_map(renderer, model, cam, o.vote) : DepthMap{};
-    write_image_rgb(out / "preview" / (stem_of(scene->views()[v].name) + ".png"),
-                    label_preview(model, cam, *scene->image(v), cull ? &depth : nullptr, o.vote));
-  }
-
-  // The ablation's baseline label maps of the test views.
-  if (o.baseline_maps) {
-    RenderSettings settings;
-    settings.color = settings.depth = false;
-    settings.sh_degree = std::min(stage_one.sh_degree, kMaxShDegree);
-    settings.baseline_label_map = true;
-    for (size_t v : split.test) {
-      const View& view = scene->views()[v];
-      const RenderOutput r = renderer.render(model, view.camera, settings);
-      write_label_map(out / "baseline", stem_of(view.name), r.baseline_label, r.width, r.height);
-    }
-    summary["baseline_views"] = split.test.size();
-  }
+  write_previews(run, out);
+  if (o.baseline_maps) summary["baseline_views"] = write_baseline_maps(run, out);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   summary["seconds"] = result.seconds;
   write_text_atomically(out / "summary.json", summary.dump(2) + "\n");

@@ -193,205 +193,280 @@ ColmapModel with_database_ids(const ColmapModel& model, const fs::path& db) {
   return out;
 }
 
-}  // namespace
+// One SfM run in named steps, as COLMAP's AutomaticReconstructionController
+// orders its own: import, or feature extraction, matching and mapping (or
+// triangulation for known poses); then the largest model is kept,
+// undistorted into the scene the trainer reads, and summarised. The steps
+// share this context; each that runs COLMAP is skipped on a rerun with the
+// same fingerprint (Steps), and any that runs makes the later ones run.
+class SfmController {
+ public:
+  SfmController(const fs::path& scene_dir, const fs::path& out, const SfmOptions& options)
+      : user_(scene_dir), out_(out), o_(options), steps_(out) {
+    o_.Check();
+    fs::create_directories(out_);
+    o_.colmap.log_file = out_ / "colmap.log";
+    images_ = user_ / o_.images_dir;
+    names_ = image_names(images_);
+    // An imported pinhole model needs no COLMAP at all.
+    if (!o_.import_model.empty()) imported_ = read_imported_model(o_.import_model, images_);
+    fp_ = fmt::format("images {}\n", fmt::join(names_, "\n"));
+  }
 
-SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptions& options) {
-  options.Check();
-  SfmOptions o = options;
-  fs::create_directories(out);
-  o.colmap.log_file = out / "colmap.log";
-  const fs::path images = scene_dir / o.images_dir;
-  const std::vector<std::string> names = image_names(images);
-  // An imported pinhole model needs no COLMAP at all.
-  std::optional<ColmapModel> imported;
-  if (!o.import_model.empty()) imported = read_imported_model(o.import_model, images);
-  const bool needs_colmap = !imported || !is_pinhole(*imported);
-  bool cuda = false;
-  if (needs_colmap && !o.colmap.available(&cuda))
-    throw ColmapError(
-        fmt::format("`{}` does not run: install COLMAP with `apt-get install "
-                    "colmap` (scripts/setup.sh does), or give its path with --colmap",
-                    o.colmap.binary));
-  const fs::path db = out / "database.db", raw = out / "sparse_raw", und = out / "undistorted";
-  const bool gpu = want_gpu(o, cuda);
-  const std::string use_gpu = gpu ? "1" : "0";
-  Steps steps(out);
-  std::string fp = fmt::format("images {}\n", fmt::join(names, "\n"));
-  bool redo = false;
+  SfmResult run() {
+    check_colmap();
+    if (imported_)
+      run_import();
+    else if (o_.llff)
+      run_llff();
+    else
+      run_sfm_steps();
+    const ColmapModel model = keep_largest_model();
+    run_undistortion(model);
+    score_poses(model);
+    write_summary(model);
+    return r_;
+  }
 
-  const auto extract = [&](const std::string& model, const std::vector<double>& params) {
-    fs::remove(db);
+ private:
+  void check_colmap() {
+    const bool needs_colmap = !imported_ || !is_pinhole(*imported_);
+    bool cuda = false;
+    if (needs_colmap && !o_.colmap.available(&cuda))
+      throw ColmapError(
+          fmt::format("`{}` does not run: install COLMAP with `apt-get install "
+                      "colmap` (scripts/setup.sh does), or give its path with --colmap",
+                      o_.colmap.binary));
+    gpu_ = want_gpu(o_, cuda);
+  }
+
+  void run_import() {
+    fs::remove_all(raw());
+    write_colmap_model(*imported_, raw() / "0", ColmapFormat::kBinary);
+    fp_ += "import " + fs::absolute(o_.import_model).string();
+    redo_ = true;
+  }
+
+  // Known poses (3DOVS's poses_bounds.npy): features and matches, then COLMAP
+  // triangulates the points with the cameras held fixed.
+  void run_llff() {
+    const ImageRGB first = read_image_rgb(images_ / names_.front());
+    const ColmapModel known =
+        llff_to_colmap(user_ / "poses_bounds.npy", names_, first.width, first.height);
+    const std::vector<double>& params = known.cameras.at(1).params;
+    fp_ += fmt::format("llff {}\n", join(params));
+    step("feature extraction", [&] { run_feature_extraction("PINHOLE", params); });
+    fp_ += matcher_fingerprint();
+    step("matching", [&] { run_matching(); });
+    step("triangulation", [&] { run_triangulation(known); });
+  }
+
+  void run_sfm_steps() {
+    const bool known = !o_.intrinsics.empty();
+    fp_ += fmt::format("camera {} single {} known {}\n", known ? "PINHOLE" : o_.camera_model,
+                       o_.single_camera, join(o_.intrinsics));
+    step("feature extraction",
+         [&] { run_feature_extraction(known ? "PINHOLE" : o_.camera_model, o_.intrinsics); });
+    fp_ += matcher_fingerprint();
+    step("matching", [&] { run_matching(); });
+    step("mapping", [&] { run_mapping(known); });
+  }
+
+  void run_feature_extraction(const std::string& model, const std::vector<double>& params) {
+    fs::remove(database());
     std::vector<std::string> args = {"--database_path",
-                                     db.string(),
+                                     database().string(),
                                      "--image_path",
-                                     images.string(),
+                                     images_.string(),
                                      "--ImageReader.single_camera",
-                                     o.single_camera || !params.empty() ? "1" : "0",
+                                     o_.single_camera || !params.empty() ? "1" : "0",
                                      "--ImageReader.camera_model",
                                      model,
                                      "--SiftExtraction.use_gpu",
-                                     use_gpu};
+                                     gpu_ ? "1" : "0"};
     if (!params.empty()) args.insert(args.end(), {"--ImageReader.camera_params", join(params)});
-    if (o.threads)
-      args.insert(args.end(), {"--SiftExtraction.num_threads", std::to_string(o.threads)});
-    o.colmap.run("feature extraction", "feature_extractor", args);
-  };
-  const bool sequential = o.matcher == SfmMatcher::kSequential ||
-                          (o.matcher == SfmMatcher::kAuto && names.size() > 250);
-  const auto match = [&] {
-    std::vector<std::string> args = {"--database_path", db.string(), "--SiftMatching.use_gpu",
-                                     use_gpu};
-    if (sequential) {
-      args.insert(args.end(),
-                  {"--SequentialMatching.overlap", std::to_string(o.sequential_overlap),
-                   "--SequentialMatching.loop_detection", o.vocab_tree.empty() ? "0" : "1"});
-      if (!o.vocab_tree.empty())
-        args.insert(args.end(), {"--SequentialMatching.vocab_tree_path", o.vocab_tree.string()});
-    }
-    o.colmap.run("matching", sequential ? "sequential_matcher" : "exhaustive_matcher", args);
-  };
-  // Bundle adjustment leaves known intrinsics as they are.
-  const std::vector<std::string> fixed_intrinsics = {"--Mapper.ba_refine_focal_length",    "0",
-                                                     "--Mapper.ba_refine_principal_point", "0",
-                                                     "--Mapper.ba_refine_extra_params",    "0"};
-  const std::string matcher_fp =
-      fmt::format("matcher {} overlap {} vocab {}\n", sequential ? "sequential" : "exhaustive",
-                  o.sequential_overlap, o.vocab_tree.string());
-
-  if (imported) {
-    fs::remove_all(raw);
-    write_colmap_model(*imported, raw / "0", ColmapFormat::kBinary);
-    fp += "import " + fs::absolute(o.import_model).string();
-    redo = true;
-  } else if (o.llff) {
-    // Known poses: features and matches, then COLMAP triangulates the points
-    // with the cameras held fixed.
-    const ImageRGB first = read_image_rgb(images / names.front());
-    const ColmapModel known =
-        llff_to_colmap(scene_dir / "poses_bounds.npy", names, first.width, first.height);
-    const std::vector<double>& params = known.cameras.at(1).params;
-    fp += fmt::format("llff {}\n", join(params));
-    redo = steps.run("feature extraction", fp, redo, [&] { extract("PINHOLE", params); });
-    fp += matcher_fp;
-    redo = steps.run("matching", fp, redo, match);
-    redo = steps.run("triangulation", fp, redo, [&] {
-      fs::remove_all(raw);
-      fs::create_directories(raw / "0");
-      write_colmap_model(with_database_ids(known, db), out / "llff_model", ColmapFormat::kText);
-      std::vector<std::string> args = {"--database_path", db.string(),
-                                       "--image_path",    images.string(),
-                                       "--input_path",    (out / "llff_model").string(),
-                                       "--output_path",   (raw / "0").string()};
-      args.insert(args.end(), fixed_intrinsics.begin(), fixed_intrinsics.end());
-      o.colmap.run("triangulation", "point_triangulator", args);
-    });
-  } else {
-    const bool known = !o.intrinsics.empty();
-    fp += fmt::format("camera {} single {} known {}\n", known ? "PINHOLE" : o.camera_model,
-                      o.single_camera, join(o.intrinsics));
-    redo = steps.run("feature extraction", fp, redo,
-                     [&] { extract(known ? "PINHOLE" : o.camera_model, o.intrinsics); });
-    fp += matcher_fp;
-    redo = steps.run("matching", fp, redo, match);
-    redo = steps.run("mapping", fp, redo, [&] {
-      fs::remove_all(raw);
-      fs::create_directories(raw);
-      std::vector<std::string> args = {"--database_path", db.string(),     "--image_path",
-                                       images.string(),   "--output_path", raw.string()};
-      if (known) args.insert(args.end(), fixed_intrinsics.begin(), fixed_intrinsics.end());
-      if (o.threads) args.insert(args.end(), {"--Mapper.num_threads", std::to_string(o.threads)});
-      o.colmap.run("mapping", "mapper", args);
-    });
+    if (o_.threads)
+      args.insert(args.end(), {"--SiftExtraction.num_threads", std::to_string(o_.threads)});
+    o_.colmap.run("feature extraction", "feature_extractor", args);
   }
 
-  SfmResult r;
-  r.views = names.size();
-  const auto [kept, model] = largest_model(raw, &r.models);
-  if (kept < 0)
-    throw ColmapError("mapping made no model: no two views could be matched; log " +
-                      o.colmap.log_file.string());
-  r.kept_model = kept;
-  r.registered = model.images.size();
-  std::set<std::string> in_model;
-  for (const auto& [id, image] : model.images) in_model.insert(image.name);
-  for (const std::string& n : names)
-    if (!in_model.count(n)) r.unregistered.push_back(n);
-  spdlog::info("{} of {} views registered ({} model{}; kept model {})", r.registered, r.views,
-               r.models, r.models == 1 ? "" : "s", kept);
-  if (!r.unregistered.empty()) spdlog::warn("not registered: {}", fmt::join(r.unregistered, ", "));
-  const double share = double(r.registered) / double(r.views);
-  // An imported model is the user's choice: fewer views is a warning only.
-  if (imported && r.registered >= 2 && share < o.min_registered_fraction)
-    spdlog::warn("the imported model holds {} of the {} images in {}", r.registered, r.views,
-                 images.string());
-  else if (r.registered < 2 || share < o.min_registered_fraction)
-    throw ColmapError(
-        fmt::format("only {} of {} views registered (minimum {:.0f}%); try "
-                    "--matcher exhaustive, more overlapping photos, or known "
-                    "intrinsics",
-                    r.registered, r.views, 100 * o.min_registered_fraction));
+  bool sequential() const {
+    return o_.matcher == SfmMatcher::kSequential ||
+           (o_.matcher == SfmMatcher::kAuto && names_.size() > 250);
+  }
+
+  std::string matcher_fingerprint() const {
+    return fmt::format("matcher {} overlap {} vocab {}\n",
+                       sequential() ? "sequential" : "exhaustive", o_.sequential_overlap,
+                       o_.vocab_tree.string());
+  }
+
+  void run_matching() {
+    std::vector<std::string> args = {"--database_path", database().string(),
+                                     "--SiftMatching.use_gpu", gpu_ ? "1" : "0"};
+    if (sequential()) {
+      args.insert(args.end(),
+                  {"--SequentialMatching.overlap", std::to_string(o_.sequential_overlap),
+                   "--SequentialMatching.loop_detection", o_.vocab_tree.empty() ? "0" : "1"});
+      if (!o_.vocab_tree.empty())
+        args.insert(args.end(), {"--SequentialMatching.vocab_tree_path", o_.vocab_tree.string()});
+    }
+    o_.colmap.run("matching", sequential() ? "sequential_matcher" : "exhaustive_matcher", args);
+  }
+
+  // Bundle adjustment leaves known intrinsics as they are.
+  static void add_fixed_intrinsics(std::vector<std::string>& args) {
+    args.insert(args.end(),
+                {"--Mapper.ba_refine_focal_length", "0", "--Mapper.ba_refine_principal_point", "0",
+                 "--Mapper.ba_refine_extra_params", "0"});
+  }
+
+  void run_triangulation(const ColmapModel& known) {
+    fs::remove_all(raw());
+    fs::create_directories(raw() / "0");
+    write_colmap_model(with_database_ids(known, database()), out_ / "llff_model",
+                       ColmapFormat::kText);
+    std::vector<std::string> args = {"--database_path", database().string(),
+                                     "--image_path",    images_.string(),
+                                     "--input_path",    (out_ / "llff_model").string(),
+                                     "--output_path",   (raw() / "0").string()};
+    add_fixed_intrinsics(args);
+    o_.colmap.run("triangulation", "point_triangulator", args);
+  }
+
+  void run_mapping(bool known_intrinsics) {
+    fs::remove_all(raw());
+    fs::create_directories(raw());
+    std::vector<std::string> args = {"--database_path", database().string(), "--image_path",
+                                     images_.string(),  "--output_path",     raw().string()};
+    if (known_intrinsics) add_fixed_intrinsics(args);
+    if (o_.threads) args.insert(args.end(), {"--Mapper.num_threads", std::to_string(o_.threads)});
+    o_.colmap.run("mapping", "mapper", args);
+  }
+
+  // The model with the most registered views; fails when too few registered.
+  ColmapModel keep_largest_model() {
+    r_.views = names_.size();
+    auto [kept, model] = largest_model(raw(), &r_.models);
+    if (kept < 0)
+      throw ColmapError("mapping made no model: no two views could be matched; log " +
+                        o_.colmap.log_file.string());
+    r_.kept_model = kept;
+    r_.registered = model.images.size();
+    for (const auto& [id, image] : model.images) registered_.insert(image.name);
+    for (const std::string& n : names_)
+      if (!registered_.count(n)) r_.unregistered.push_back(n);
+    spdlog::info("{} of {} views registered ({} model{}; kept model {})", r_.registered, r_.views,
+                 r_.models, r_.models == 1 ? "" : "s", kept);
+    if (!r_.unregistered.empty())
+      spdlog::warn("not registered: {}", fmt::join(r_.unregistered, ", "));
+    const double share = double(r_.registered) / double(r_.views);
+    // An imported model is the user's choice: fewer views is a warning only.
+    if (imported_ && r_.registered >= 2 && share < o_.min_registered_fraction)
+      spdlog::warn("the imported model holds {} of the {} images in {}", r_.registered, r_.views,
+                   images_.string());
+    else if (r_.registered < 2 || share < o_.min_registered_fraction)
+      throw ColmapError(
+          fmt::format("only {} of {} views registered (minimum {:.0f}%); try "
+                      "--matcher exhaustive, more overlapping photos, or known "
+                      "intrinsics",
+                      r_.registered, r_.views, 100 * o_.min_registered_fraction));
+    return std::move(model);
+  }
 
   // Undistortion into PINHOLE, and the scene layout the trainer reads.
-  r.scene = out / "scene";
-  const fs::path sparse = r.scene / "sparse" / "0";
-  // "layout 2": the scene has photo_cameras/ (outputs of older versions lack it).
-  fp += fmt::format("kept {}\nlayout 2\n", kept);
-  const bool undistort = !is_pinhole(model);
-  steps.run("undistortion", fp, redo, [&] {
-    fs::remove_all(r.scene);
-    fs::create_directories(sparse);
-    if (!undistort) {
-      write_colmap_model(model, sparse, ColmapFormat::kBinary);
-      relink(images, r.scene / "images");
-      return;
-    }
-    fs::remove_all(und);
-    o.colmap.run(
-        "undistortion", "image_undistorter",
-        {"--image_path", images.string(), "--input_path", (raw / std::to_string(kept)).string(),
-         "--output_path", und.string(), "--output_type", "COLMAP"});
-    write_colmap_model(read_colmap_model(und / "sparse"), sparse, ColmapFormat::kBinary);
-    relink(und / "images", r.scene / "images");
-    write_colmap_model(cameras_only(model), r.scene / kPhotoCamerasDir, ColmapFormat::kBinary);
-  });
-  if (undistort) undistort_user_id_maps(scene_dir, r.scene, model, o);
-  link_user_files(scene_dir, r.scene, o.images_dir, undistort);
-  // Said here, where the user's folder is named, rather than only by the
-  // later stages, which see the output scene.
-  if (!fs::exists(scene_dir / "sam2"))
-    spdlog::warn("{}: no sam2/ folder of ID maps; op2gs-vote and op2gs-learn need it",
-                 scene_dir.string());
+  void run_undistortion(const ColmapModel& model) {
+    r_.scene = out_ / "scene";
+    const fs::path sparse = r_.scene / "sparse" / "0";
+    // "layout 2": the scene has photo_cameras/ (outputs of older versions lack it).
+    fp_ += fmt::format("kept {}\nlayout 2\n", r_.kept_model);
+    const bool undistort = !is_pinhole(model);
+    step("undistortion", [&] {
+      fs::remove_all(r_.scene);
+      fs::create_directories(sparse);
+      if (!undistort) {
+        write_colmap_model(model, sparse, ColmapFormat::kBinary);
+        relink(images_, r_.scene / "images");
+        return;
+      }
+      const fs::path und = out_ / "undistorted";
+      fs::remove_all(und);
+      o_.colmap.run("undistortion", "image_undistorter",
+                    {"--image_path", images_.string(), "--input_path",
+                     (raw() / std::to_string(r_.kept_model)).string(), "--output_path",
+                     und.string(), "--output_type", "COLMAP"});
+      write_colmap_model(read_colmap_model(und / "sparse"), sparse, ColmapFormat::kBinary);
+      relink(und / "images", r_.scene / "images");
+      write_colmap_model(cameras_only(model), r_.scene / kPhotoCamerasDir, ColmapFormat::kBinary);
+    });
+    if (undistort) undistort_user_id_maps(user_, r_.scene, model, o_);
+    link_user_files(user_, r_.scene, o_.images_dir, undistort);
+    // Said here, where the user's folder is named, rather than only by the
+    // later stages, which see the output scene.
+    if (!fs::exists(user_ / "sam2"))
+      spdlog::warn("{}: no sam2/ folder of ID maps; op2gs-vote and op2gs-learn need it",
+                   user_.string());
+  }
 
-  json accuracy = nullptr;
-  if (!o.truth.empty()) {
-    const ColmapModel truth = read_colmap_model(o.truth);
+  // Against the true cameras, if given (after a similarity alignment).
+  void score_poses(const ColmapModel& model) {
+    if (o_.truth.empty()) return;
+    const ColmapModel truth = read_colmap_model(o_.truth);
     std::set<std::string> true_names;
     for (const auto& [id, image] : truth.images) true_names.insert(image.name);
-    if (std::count_if(in_model.begin(), in_model.end(),
+    if (std::count_if(registered_.begin(), registered_.end(),
                       [&](const std::string& n) { return true_names.count(n) > 0; }) < 3)
-      throw InputError(o.truth, "the true model shares fewer than 3 image names with the scene");
+      throw InputError(o_.truth, "the true model shares fewer than 3 image names with the scene");
     const PoseAccuracy acc = pose_accuracy(model, truth);
-    r.center_rmse = acc.center_rmse;
-    r.rotation_error_deg = acc.rotation_error_deg;
-    accuracy = {{"matched", acc.matched},
-                {"center_rmse", acc.center_rmse},
-                {"rotation_error_deg", acc.rotation_error_deg},
-                {"scale", acc.alignment.scale}};
+    r_.center_rmse = acc.center_rmse;
+    r_.rotation_error_deg = acc.rotation_error_deg;
+    accuracy_ = {{"matched", acc.matched},
+                 {"center_rmse", acc.center_rmse},
+                 {"rotation_error_deg", acc.rotation_error_deg},
+                 {"scale", acc.alignment.scale}};
     spdlog::info("against the true cameras: centre RMSE {:.5f}, rotation error {:.3f} deg",
                  acc.center_rmse, acc.rotation_error_deg);
   }
-  const json summary = {{"pose_accuracy", accuracy},
-                        {"llff", o.llff},
-                        {"views", r.views},
-                        {"registered", r.registered},
-                        {"unregistered", r.unregistered},
-                        {"models", r.models},
-                        {"kept_model", kept},
-                        {"points", model.points3d.size()},
-                        {"gpu", gpu},
-                        {"imported", o.import_model.string()}};
-  write_text_atomically(out / "sfm.json", summary.dump(2) + "\n");
-  return r;
+
+  void write_summary(const ColmapModel& model) const {
+    const json summary = {{"pose_accuracy", accuracy_},
+                          {"llff", o_.llff},
+                          {"views", r_.views},
+                          {"registered", r_.registered},
+                          {"unregistered", r_.unregistered},
+                          {"models", r_.models},
+                          {"kept_model", r_.kept_model},
+                          {"points", model.points3d.size()},
+                          {"gpu", gpu_},
+                          {"imported", o_.import_model.string()}};
+    write_text_atomically(out_ / "sfm.json", summary.dump(2) + "\n");
+  }
+
+  // Runs a step unless it finished before with the fingerprint so far.
+  void step(const std::string& name, const std::function<void()>& body) {
+    redo_ = steps_.run(name, fp_, redo_, body);
+  }
+  fs::path database() const { return out_ / "database.db"; }
+  fs::path raw() const { return out_ / "sparse_raw"; }
+
+  const fs::path user_, out_;
+  SfmOptions o_;
+  Steps steps_;
+  fs::path images_;
+  std::vector<std::string> names_;
+  std::optional<ColmapModel> imported_;
+  bool gpu_ = false;
+  std::string fp_;     // fingerprint of the inputs and options of the steps so far
+  bool redo_ = false;  // a step ran, so every later one must run too
+  std::set<std::string> registered_;
+  json accuracy_ = nullptr;
+  SfmResult r_;
+};
+
+}  // namespace
+
+SfmResult run_sfm(const fs::path& scene_dir, const fs::path& out, const SfmOptions& options) {
+  return SfmController(scene_dir, out, options).run();
 }
 
 }  // namespace splat

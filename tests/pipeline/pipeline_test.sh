@@ -43,7 +43,7 @@ mk "${tiny[@]}" -q || fail "make -q says something is stale"
 mk "${tiny[@]}" | grep "Nothing to be done" > /dev/null || fail "a second make did work"
 
 echo "-- a changed stage-two option reruns stage two and what follows, only"
-stamps() { for s in generate sfm train vote learn render embed eval report; do
+stamps() { for s in generate sfm train vote learn render embed query eval report; do
   echo "$s $(stat -c %Y.%y "$w/stamps/$s.done")"; done; }
 before=$(stamps)
 sleep 1.1
@@ -52,7 +52,7 @@ after=$(stamps)
 for s in generate sfm train vote; do
   [ "$(grep "^$s " <<<"$before")" = "$(grep "^$s " <<<"$after")" ] || fail "stage $s reran"
 done
-for s in learn render embed eval report; do
+for s in learn render embed query eval report; do
   [ "$(grep "^$s " <<<"$before")" != "$(grep "^$s " <<<"$after")" ] || fail "stage $s did not rerun"
 done
 
@@ -66,7 +66,7 @@ mk DATASET=3dovs DATA_ROOT="$tmp/fx/3dovs" WORK_ROOT="$tmp/ovs" check > "$tmp/ch
   { cat "$tmp/check.log"; fail "3DOVS fixture does not check"; }
 grep -q "covered_desk: 5 segmented views, 6 classes" "$tmp/check.log" || fail "3DOVS scenes not checked"
 # The commands the definitions give.
-mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" -n figurines.embed |
+mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" -n figurines.query |
   grep -- "--queries $tmp/lerf/figurines/options/queries.txt" > /dev/null ||
   fail "LERF-Mask queries not used"
 [ "$(wc -l < "$tmp/lerf/figurines/options/queries.txt")" -eq 7 ] || fail "figurines query list"
