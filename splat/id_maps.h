@@ -1,6 +1,6 @@
 #pragma once
 // Per-view ID maps (SAM2 masks, ground-truth instance maps) as users bring
-// them (../shared/spec/inputs.md): <folder>/<image stem>.png, single channel,
+// them (docs/inputs.md): <folder>/<image stem>.png, single channel,
 // 8 or 16 bit, the size of the image or another size with the same aspect
 // ratio.
 

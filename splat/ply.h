@@ -1,6 +1,6 @@
 #pragma once
 // Gaussian models as PLY files in the layout every 3DGS viewer reads
-// (../shared/spec/gaussian-splatting.md): a binary little-endian "vertex"
+// (docs/gaussian-splatting.md): a binary little-endian "vertex"
 // element with float properties
 //   x y z nx ny nz f_dc_0..2 f_rest_0..44 opacity scale_0..2 rot_0..3
 // followed, for OP2GS models, by

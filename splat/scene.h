@@ -1,5 +1,5 @@
 #pragma once
-// A scene folder as users bring it (../shared/spec/inputs.md): images/,
+// A scene folder as users bring it (docs/inputs.md): images/,
 // optional images_2/4/8/, and a COLMAP model in sparse/0/. Views are decoded
 // lazily through a bounded cache.
 

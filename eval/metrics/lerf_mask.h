@@ -1,5 +1,5 @@
 #pragma once
-// The LERF-Mask benchmark layout and its scoring (../shared/spec/evaluation.md):
+// The LERF-Mask benchmark layout and its scoring (docs/evaluation.md):
 // test views are the images of images/ that are not in images_train/, sorted
 // by name; test_mask/<k>/<query>.png is the ground truth of query <query> in
 // the k-th test view (some k may be missing).
@@ -83,8 +83,8 @@ SceneScore score_oracle(const LerfMaskGroundTruth& gt,
 // ground truth that has no object.
 using QueryObjects = std::map<std::string, int32_t>;
 SceneScore score_selected(const LerfMaskGroundTruth& gt, const QueryObjects& objects,
-                          const std::function<ObjectMasks(size_t k)>& masks_of,
-                          int truth_width = 0, TruthMasks* truths = nullptr);
+                          const std::function<ObjectMasks(size_t k)>& masks_of, int truth_width = 0,
+                          TruthMasks* truths = nullptr);
 
 // The 3DOVS layout as LERF-Mask ground truth: the segmented views as test
 // views, the classes as queries, one binary mask per (view, class) where the

@@ -1,5 +1,5 @@
 #pragma once
-// Mask metrics of the LERF-Mask protocol (../shared/spec/evaluation.md), as
+// Mask metrics of the LERF-Mask protocol (docs/evaluation.md), as
 // the public reference script computes them: IoU and boundary IoU (Cheng et
 // al. 2021, dilation ratio 0.02) of binary masks.
 

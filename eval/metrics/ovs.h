@@ -1,5 +1,5 @@
 #pragma once
-// The 3DOVS metric as its reference computes it (../shared/spec/evaluation.md):
+// The 3DOVS metric as its reference computes it (docs/evaluation.md):
 // classes sorted alphabetically; per test view, the prediction is a one-hot
 // class map (each pixel gets the argmax class of the predicted scores, so
 // every pixel gets some class); IoU per class over all pixels (an empty union

@@ -1,5 +1,6 @@
 #pragma once
-// The OP2GS paper's published figures (../shared/paper/op2gs.tex), for the
+// The published figures of the OP2GS paper (Liu et al., "OP2GS: Object-Aware
+// 3D Gaussian Primitives via Dual Opacity": its LERF-Mask, 3DOVS and ablation tables), for the
 // reports to put beside ours. In percent.
 
 #include <optional>

@@ -1,6 +1,6 @@
 #pragma once
 // Generates a complete synthetic benchmark scene in the LERF-Mask layout
-// (../shared/spec/inputs.md, ../shared/spec/evaluation.md):
+// (docs/inputs.md, docs/evaluation.md):
 //
 //   images/frame_NNNNN.png        all views (ray traced, supersampled)
 //   images_train/                 the training views (every test_every-th view is a test view)

@@ -1,5 +1,5 @@
 # LERF-Mask (Kerr et al.; masks of Gaussian Grouping), as the paper evaluates
-# it: three scenes, their query lists (../shared/spec/evaluation.md), the
+# it: three scenes, their query lists (docs/evaluation.md), the
 # training views of images_train/, scored with the LERF-Mask script's rules at
 # the full resolution of images/. DATA_ROOT holds figurines/, ramen/, teatime/
 # (images/, images_train/, sparse/0/, test_mask/, and sam2/ ID maps).

@@ -1,5 +1,5 @@
 # Your own photos: DATA_ROOT holds one folder per scene, each with images/ and
-# sam2/ (one ID map per image, ../shared/spec/inputs.md); a COLMAP model in
+# sam2/ (one ID map per image, docs/inputs.md); a COLMAP model in
 # sparse/0/ is used when present (undistorted first if its cameras have
 # distortion, as COLMAP's default SIMPLE_RADIAL has), else op2gs-sfm makes
 # one. There is no ground truth, so the run ends with the renders and masks,

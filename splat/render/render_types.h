@@ -1,5 +1,5 @@
 #pragma once
-// What the renderer takes and gives back (../shared/spec/gaussian-splatting.md,
+// What the renderer takes and gives back (docs/gaussian-splatting.md,
 // "Renderer constants", and the paper's dual-opacity branch).
 //
 // Conventions: pixel (x, y) is sampled at its centre (x + 0.5, y + 0.5) in

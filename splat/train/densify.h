@@ -1,6 +1,6 @@
 #pragma once
 // Adaptive density control of the reference 3DGS recipe
-// (../shared/spec/gaussian-splatting.md, "Densification").
+// (docs/gaussian-splatting.md, "Densification").
 
 #include <cstdint>
 #include <iosfwd>

@@ -1,0 +1,72 @@
+// op2gs-report from a scene scored by op2gs-eval: both files written, the
+// scene's figures in them, nothing fetched from outside.
+
+#include "eval/report/report.h"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "eval/run/eval_run.h"
+#include "splat/atomic_file.h"
+#include "splat/error.h"
+#include "tests/tiny_scene.h"
+
+namespace eval {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ScoredScene {
+  fs::path scene, metrics;
+  EvalRunResult result;
+};
+
+const ScoredScene& scored() {
+  static const ScoredScene s = [] {
+    const fs::path d = testing_util::process_temp_dir("report");
+    testing_util::generate_small_scene_in_both_layouts(d);
+    EvalRunOptions o;
+    o.predictions = {{"exact", d / "lerf" / "instance_gt"}, {"sam2-like", d / "lerf" / "sam2"}};
+    ScoredScene out{d / "lerf", d / "work" / "eval" / "metrics.json", {}};
+    fs::create_directories(out.metrics.parent_path());
+    out.result = run_evaluation(out.scene, out.metrics, o);
+    return out;
+  }();
+  return s;
+}
+
+TEST(Report, WritesHtmlAndMarkdownWithTheScenesFigures) {
+  const testing_util::TempDir tmp;
+  ReportOptions o;
+  o.title = "test report";
+  o.scenes = {{"tiny", scored().scene, scored().metrics, {}, {}, {}}};
+  const ReportFiles f = write_report(tmp / "report", o);
+  const std::string html = splat::read_text_file(f.html);
+  const std::string md = splat::read_text_file(f.markdown);
+  for (const std::string* text : {&html, &md}) {
+    EXPECT_NE(text->find("test report"), std::string::npos);
+    EXPECT_NE(text->find("tiny"), std::string::npos);
+    EXPECT_NE(text->find("exact"), std::string::npos);
+    EXPECT_NE(text->find("sam2-like"), std::string::npos);
+    EXPECT_NE(text->find(fmt::format("{:.1f}", 100 * scored().result.miou[0])), std::string::npos);
+  }
+  // Self-contained: opens offline, from any folder.
+  EXPECT_EQ(html.find("src=\"http"), std::string::npos);
+  EXPECT_EQ(html.find("href=\"http"), std::string::npos);
+}
+
+TEST(Report, MissingMetricsNameTheFile) {
+  const testing_util::TempDir tmp;
+  ReportOptions o;
+  o.scenes = {{"tiny", scored().scene, tmp / "absent" / "metrics.json", {}, {}, {}}};
+  try {
+    write_report(tmp / "report", o);
+    FAIL() << "expected InputError";
+  } catch (const splat::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("absent"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(tmp / "report" / "report.html"));
+}
+
+}  // namespace
+}  // namespace eval
