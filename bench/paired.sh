@@ -2,7 +2,7 @@
 # Paired timings of two builds (for example before and after a change): the
 # renderer, a voting run and a short stage-one training run, each run
 # alternately with the two builds' binaries so that drift of the machine hits
-# both alike. Prints every run and the median of each.
+# both alike. Prints every run and the median of each, with its unit.
 #
 #   bench/paired.sh OLD_BUILD NEW_BUILD [rounds] [training iterations]
 set -euo pipefail
@@ -22,16 +22,16 @@ run_build() {
   local build="$1"
   "$build/bench/render_bench" --benchmark_filter="$render_filter" --benchmark_repetitions=3 \
     --benchmark_report_aggregates_only=true --benchmark_format=csv 2> /dev/null |
-    awk -F, '/_median/ { gsub(/"/, "", $1); print $1, $4 }'
+    awk -F, '/_median/ { gsub(/"/, "", $1); print $1 "[" $5 "]", $3 }'
   "$build/bench/vote_bench" --benchmark_filter="$vote_filter" --benchmark_format=csv 2> /dev/null |
-    awk -F, '/BM_Vote/ { gsub(/"/, "", $1); print $1, $4 }'
+    awk -F, '/BM_Vote/ { gsub(/"/, "", $1); print $1 "[" $5 "]", $3 }'
   rm -rf "$tmp/work"
   local start end
   start=$(date +%s.%N)
   "$build/stages/op2gs-train" "$tmp/scene" "$tmp/work" --iterations "$iterations" \
     --schedule 30000 > /dev/null 2>&1
   end=$(date +%s.%N)
-  echo "op2gs-train/${iterations}_iterations $(echo "($end - $start) * 1000" | bc)"
+  echo "op2gs-train/${iterations}_iterations[s] $(echo "$end - $start" | bc)"
 }
 
 for round in $(seq "$rounds"); do
@@ -40,11 +40,11 @@ for round in $(seq "$rounds"); do
 done | tee "$tmp/runs.txt"
 
 echo
-echo "median (ms): benchmark, old, new, new/old"
+echo "median: benchmark[unit], old, new, new/old"
 awk '{ v[$2 " " $1] = v[$2 " " $1] " " $3; names[$2] = 1 }
      END { for (n in names) print n, v[n " old"], "|", v[n " new"] }' "$tmp/runs.txt" |
   while read -r name rest; do
     o=$(echo "${rest%|*}" | tr ' ' '\n' | sed '/^$/d' | sort -g | awk '{ a[NR] = $1 } END { print a[int((NR + 1) / 2)] }')
     n=$(echo "${rest#*|}" | tr ' ' '\n' | sed '/^$/d' | sort -g | awk '{ a[NR] = $1 } END { print a[int((NR + 1) / 2)] }')
-    printf '%s %.1f %.1f %.3f\n' "$name" "$o" "$n" "$(echo "$n / $o" | bc -l)"
+    printf '%s %.2f %.2f %.3f\n' "$name" "$o" "$n" "$(echo "$n / $o" | bc -l)"
   done

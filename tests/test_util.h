@@ -1,5 +1,6 @@
 #pragma once
-// Helpers shared by the tests: temporary folders and small file I/O.
+// Helpers shared by the tests: temporary folders, small file I/O, one-view
+// COLMAP models.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -9,6 +10,8 @@
 #include <string>
 #include <system_error>
 #include <vector>
+
+#include "splat/colmap_model.h"
 
 namespace testing_util {
 
@@ -59,6 +62,19 @@ inline void write_file(const std::filesystem::path& p, const std::string& bytes)
 inline std::string read_file(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// A COLMAP model of one image, `name`, seen by `camera` from the origin.
+inline splat::ColmapModel one_view_model(const splat::ColmapCamera& camera,
+                                         const std::string& name) {
+  splat::ColmapModel m;
+  m.cameras[camera.camera_id] = camera;
+  splat::ColmapImage image;
+  image.image_id = 1;
+  image.camera_id = camera.camera_id;
+  image.name = name;
+  m.images[1] = image;
+  return m;
 }
 
 }  // namespace testing_util

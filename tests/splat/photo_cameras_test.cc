@@ -9,30 +9,21 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A model of one image named `name` seen by `camera`.
-ColmapModel one_view(const std::string& name, const ColmapCamera& camera) {
-  ColmapModel m;
-  m.cameras[camera.camera_id] = camera;
-  ColmapImage image;
-  image.image_id = 1;
-  image.camera_id = camera.camera_id;
-  image.name = name;
-  m.images[1] = image;
-  return m;
-}
-
 const ColmapCamera kView{1, 1, 8, 6, {10, 10, 4, 3}};  // PINHOLE 8x6
 
 TEST(PhotoCameras, EmptyWhenTheViewsAreThePhotos) {
   const testing_util::TempDir scene;
-  write_colmap_model(one_view("a.png", kView), scene / "sparse/0", ColmapFormat::kText);
+  write_colmap_model(testing_util::one_view_model(kView, "a.png"), scene / "sparse/0",
+                     ColmapFormat::kText);
   EXPECT_TRUE(PhotoCameras::load(scene.path()).empty());
 }
 
 TEST(PhotoCameras, UndistortedPhotoSamplesTheRenderPixelForPixel) {
   const testing_util::TempDir scene;
-  write_colmap_model(one_view("a.png", kView), scene / "sparse/0", ColmapFormat::kText);
-  write_colmap_model(one_view("a.png", kView), scene / kPhotoCamerasDir, ColmapFormat::kBinary);
+  write_colmap_model(testing_util::one_view_model(kView, "a.png"), scene / "sparse/0",
+                     ColmapFormat::kText);
+  write_colmap_model(testing_util::one_view_model(kView, "a.png"), scene / kPhotoCamerasDir,
+                     ColmapFormat::kBinary);
   const PhotoCameras cameras = PhotoCameras::load(scene.path());
   ASSERT_FALSE(cameras.empty());
   EXPECT_FALSE(cameras.sampling("other.png", 8, 6).has_value());
@@ -62,8 +53,10 @@ TEST(PhotoCameras, PixelsTheViewCroppedAwayAreOutside) {
   // The photo is wider than the view around the same centre: its outer
   // columns fall outside the render.
   const ColmapCamera photo{1, 1, 12, 6, {10, 10, 6, 3}};
-  write_colmap_model(one_view("a.png", kView), scene / "sparse/0", ColmapFormat::kText);
-  write_colmap_model(one_view("a.png", photo), scene / kPhotoCamerasDir, ColmapFormat::kText);
+  write_colmap_model(testing_util::one_view_model(kView, "a.png"), scene / "sparse/0",
+                     ColmapFormat::kText);
+  write_colmap_model(testing_util::one_view_model(photo, "a.png"), scene / kPhotoCamerasDir,
+                     ColmapFormat::kText);
   const auto s = PhotoCameras::load(scene.path()).sampling("a.png", 8, 6);
   ASSERT_TRUE(s.has_value());
   const std::vector<float> render(48, 1.f);

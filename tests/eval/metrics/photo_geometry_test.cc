@@ -16,19 +16,9 @@ namespace {
 namespace fs = std::filesystem;
 using testing_util::TempDir;
 
+// A 160x120 view "view.png" of the given camera model.
 splat::ColmapModel one_view(int model_id, std::vector<double> params) {
-  splat::ColmapModel m;
-  splat::ColmapCamera& c = m.cameras[1];
-  c.camera_id = 1;
-  c.model_id = model_id;
-  c.width = 160;
-  c.height = 120;
-  c.params = std::move(params);
-  splat::ColmapImage& image = m.images[1];
-  image.image_id = 1;
-  image.camera_id = 1;
-  image.name = "view.png";
-  return m;
+  return testing_util::one_view_model({1, model_id, 160, 120, std::move(params)}, "view.png");
 }
 
 // Object 7: a disc near the top-left corner, where the distortion is strongest.

@@ -39,18 +39,6 @@ ColmapCamera camera(int model_id, int width, int height, std::vector<double> par
   return c;
 }
 
-// A one-view model of `cam` at the origin.
-ColmapModel one_view(const ColmapCamera& cam, const std::string& name) {
-  ColmapModel m;
-  m.cameras[cam.camera_id] = cam;
-  ColmapImage image;
-  image.image_id = 1;
-  image.camera_id = cam.camera_id;
-  image.name = name;
-  m.images[1] = image;
-  return m;
-}
-
 // A photo whose red channel is the column and green the row: COLMAP's
 // interpolated output then tells where it sampled each undistorted pixel.
 ImageRGB coordinate_photo(int width, int height) {
@@ -73,7 +61,8 @@ std::pair<ColmapCamera, ImageRGB> colmap_undistortion(const ColmapCamera& distor
     throw std::runtime_error("COLMAP is needed (scripts/setup.sh installs it)");
   write_image_rgb(dir / "images" / "view.png",
                   coordinate_photo(int(distorted.width), int(distorted.height)));
-  write_colmap_model(one_view(distorted, "view.png"), dir / "model", ColmapFormat::kText);
+  write_colmap_model(testing_util::one_view_model(distorted, "view.png"), dir / "model",
+                     ColmapFormat::kText);
   colmap.log_file = dir / "colmap.log";
   colmap.run("undistortion", "image_undistorter",
              {"--image_path", (dir / "images").string(), "--input_path", (dir / "model").string(),
@@ -196,8 +185,9 @@ TEST(UndistortIdMap, UnsupportedModelIsAnErrorNamingTheMap) {
   TempDir dir;
   const ColmapCamera fov = camera(7, 40, 30, {40, 40, 20, 15, 0.9});
   write_id_map(dir / "sam2" / "v.png", block_map(40, 30, 8), 8);
-  const ColmapModel distorted = one_view(fov, "v.jpg");
-  const ColmapModel undistorted = one_view(camera(1, 40, 30, {40, 40, 20, 15}), "v.jpg");
+  const ColmapModel distorted = testing_util::one_view_model(fov, "v.jpg");
+  const ColmapModel undistorted =
+      testing_util::one_view_model(camera(1, 40, 30, {40, 40, 20, 15}), "v.jpg");
   try {
     undistort_id_map_folder(dir / "sam2", dir / "out", distorted, undistorted);
     FAIL() << "FOV was undistorted";
@@ -212,7 +202,7 @@ TEST(UndistortIdMap, FolderKeepsOtherFilesAndSkipsViewsWithoutMaps) {
   write_id_map(dir / "sam2" / "a.png", block_map(40, 30, 8), 8);
   testing_util::write_file(dir / "sam2" / "objects.json", "[]");
   const ColmapCamera cam = camera(2, 40, 30, {40, 20, 15, 0.1});
-  ColmapModel distorted = one_view(cam, "a.jpg");
+  ColmapModel distorted = testing_util::one_view_model(cam, "a.jpg");
   ColmapImage b = distorted.images.at(1);
   b.image_id = 2;
   b.name = "b.jpg";  // no map
