@@ -64,6 +64,12 @@ int main(int argc, char** argv) {
     for (size_t i = 0; i < r.names.size(); ++i)
       fmt::print("{:<24} {:<7} {:>8.1f} {:>8.1f}\n", r.names[i], r.modes[i], 100 * r.miou[i],
                  100 * r.second[i]);
+    if (!r.query_mode_unavailable.empty()) {
+      for (size_t i = 0; i < r.names.size(); ++i)
+        fmt::print("{:<24} {:<7} {:>8} {:>8}\n", r.names[i], "query", "n/a", "n/a");
+      fmt::print("query mode not available: {}; scripts/get_clip.sh fetches CLIP ViT-B/16\n",
+                 r.query_mode_unavailable);
+    }
     if (r.psnr >= 0) fmt::print("test views: PSNR {:.2f} dB, SSIM {:.4f}\n", r.psnr, r.ssim);
     if (r.center_rmse >= 0)
       fmt::print("poses: camera-centre RMSE {:.5f}, rotation error {:.3f} deg\n", r.center_rmse,

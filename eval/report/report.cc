@@ -44,7 +44,13 @@ struct SceneData {
   std::string protocol;
   bool boundary = true;  // the second figure is mBIoU (else pixel accuracy)
   std::vector<Row> rows;
+  // Set when query mode was asked for but not scored (metrics.json's
+  // query_mode): why, and how to fetch the real CLIP.
+  std::string query_mode_unavailable;
 };
+
+// The cells of a query-mode figure that was not scored.
+constexpr char kNotAvailable[] = "n/a";
 
 double percent(const json& v) { return v.is_number() ? 100 * v.get<double>() : NAN; }
 
@@ -73,7 +79,28 @@ SceneData load_scene(const SceneReportInput& in) {
     throw splat::InputError(in.metrics, std::string("not an op2gs-eval metrics file: ") + e.what());
   }
   if (s.rows.empty()) throw splat::InputError(in.metrics, "holds no mask scores");
+  if (s.metrics.contains("query_mode") && !s.metrics["query_mode"].value("available", true))
+    s.query_mode_unavailable = s.metrics["query_mode"].value("reason", "") + ". " +
+                               s.metrics["query_mode"].value("fetch", "") + ".";
   return s;
+}
+
+// Whether `key` names a query-mode row that the scene asked for but could not
+// score ("<prediction> (query)" of one of its oracle rows).
+bool not_available(const SceneData& s, const std::string& key) {
+  if (s.query_mode_unavailable.empty()) return false;
+  for (const Row& r : s.rows)
+    if (r.mode == "oracle" && key == r.prediction + " (query)") return true;
+  return false;
+}
+
+// The note under a table with query columns that could not be scored.
+std::string query_mode_note(const std::vector<SceneData>& scenes) {
+  for (const SceneData& s : scenes)
+    if (!s.query_mode_unavailable.empty())
+      return std::string("Query mode: not available (") + kNotAvailable +
+             "): " + s.query_mode_unavailable;
+  return "";
 }
 
 const Row* find_row(const SceneData& s, const std::string& key) {
@@ -82,11 +109,18 @@ const Row* find_row(const SceneData& s, const std::string& key) {
   return nullptr;
 }
 
+// Every (prediction, mode) of the scenes, query-mode rows that could not be
+// scored included.
 std::vector<std::string> row_keys(const std::vector<SceneData>& scenes) {
   std::vector<std::string> keys;
+  const auto add = [&](const std::string& key) {
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+  };
+  for (const SceneData& s : scenes)
+    for (const Row& r : s.rows) add(r.key());
   for (const SceneData& s : scenes)
     for (const Row& r : s.rows)
-      if (std::find(keys.begin(), keys.end(), r.key()) == keys.end()) keys.push_back(r.key());
+      if (not_available(s, r.prediction + " (query)")) add(r.prediction + " (query)");
   return keys;
 }
 
@@ -147,6 +181,10 @@ Table dataset_table(const std::vector<SceneData>& scenes, Dataset d) {
   for (const SceneData& s : scenes) {
     std::vector<std::string> row = {s.input.name};
     for (size_t i = 0; i < keys.size(); ++i) {
+      if (not_available(s, keys[i])) {
+        row.insert(row.end(), {kNotAvailable, kNotAvailable});
+        continue;
+      }
       const Row* r = find_row(s, keys[i]);
       add(row, 2 * i, r ? r->miou : NAN);
       add(row, 2 * i + 1, r ? r->second : NAN);
@@ -160,8 +198,15 @@ Table dataset_table(const std::vector<SceneData>& scenes, Dataset d) {
   }
   if (scenes.size() > 1) {
     std::vector<std::string> mean = {"mean"};
-    for (size_t c = 0; c + (paper ? 0 : 2) < sums.size(); ++c)
-      mean.push_back(counts[c] == int(scenes.size()) ? cell(sums[c] / counts[c]) : "–");
+    for (size_t c = 0; c + (paper ? 0 : 2) < sums.size(); ++c) {
+      const bool scored = c >= 2 * keys.size() ||
+                          std::none_of(scenes.begin(), scenes.end(), [&](const SceneData& s) {
+                            return not_available(s, keys[c / 2]);
+                          });
+      mean.push_back(!scored                           ? kNotAvailable
+                     : counts[c] == int(scenes.size()) ? cell(sums[c] / counts[c])
+                                                       : "–");
+    }
     t.rows.push_back(mean);
   }
   return t;
@@ -195,9 +240,11 @@ std::optional<Table> ablation_table(const std::vector<SceneData>& scenes, Datase
                                      "paper dual mIoU", "paper dual mBIoU"});
   for (const std::string mode : {"oracle", "query"}) {
     const std::string b = "baseline (" + mode + ")", o = dual + " (" + mode + ")";
-    if (!find_row(scenes.front(), o)) continue;
+    const bool na = not_available(scenes.front(), o);
+    if (!find_row(scenes.front(), o) && !na) continue;
     std::vector<std::string> row = {mode, cell(mean(b, false)), cell(mean(b, true)),
                                     cell(mean(o, false)), cell(mean(o, true))};
+    if (na) std::fill(row.begin() + 1, row.end(), kNotAvailable);
     for (const PaperAblationRow& p : paper)
       if (p.mode == mode)
         row.insert(row.end(), {cell(p.baseline_miou), cell(p.baseline_mbiou), cell(p.dual_miou),
@@ -400,6 +447,10 @@ ReportFiles write_report(const fs::path& out, const ReportOptions& o) {
   const Table summary = dataset_table(scenes, d);
   md += to_markdown(summary);
   html += to_html(summary);
+  if (const std::string note = query_mode_note(scenes); !note.empty()) {
+    md += note + "\n\n";
+    html += "<p>" + html_escape(note) + "</p>\n";
+  }
   if (const auto ablation = ablation_table(scenes, d)) {
     md += to_markdown(*ablation);
     html += to_html(*ablation);
@@ -417,7 +468,10 @@ ReportFiles write_report(const fs::path& out, const ReportOptions& o) {
     const Table queries = query_table(s);
     md += to_markdown(queries);
     html += to_html(queries);
-    if (const auto sim = similarity_table(s)) {
+    if (const std::string note = query_mode_note({s}); !note.empty()) {
+      md += note + "\n\n";  // instead of the similarities, which mean nothing
+      html += "<p>" + html_escape(note) + "</p>\n";
+    } else if (const auto sim = similarity_table(s)) {
       md += to_markdown(*sim);
       html += to_html(*sim);
     }

@@ -106,6 +106,12 @@ Protocol protocol_of(const fs::path& scene, Protocol p) {
   throw splat::InputError(scene, "no ground truth (neither test_mask/ nor segmentations/)");
 }
 
+constexpr char kTestClip[] =
+    "the queries were answered with the tests' tiny random CLIP, which stands in when the real "
+    "CLIP files are absent, so their choices mean nothing";
+constexpr char kFetchClip[] =
+    "scripts/get_clip.sh fetches CLIP ViT-B/16; then run op2gs-embed and op2gs-query again";
+
 // The mask scoring of every set of predictions in every mode (oracle, and
 // query when the query answers are given): the result rows and each mode's
 // scores, for the LERF-Mask protocol or the 3DOVS metric.
@@ -114,12 +120,18 @@ class MaskScoring {
   MaskScoring(const fs::path& scene, const EvalRunOptions& o, EvalRunResult& r)
       : scene_(scene), o_(o), r_(r), photos_(scene) {
     modes_.push_back({"oracle", nullptr});
-    if (!o.query_results.empty()) {
-      for (const splat::QueryAnswer& a : splat::read_query_results(o.query_results).answers)
-        selected_[a.query] = a.object;
-      modes_.push_back({"query", &selected_});
+    if (o.query_results.empty()) return;
+    const splat::QueryResults answers = splat::read_query_results(o.query_results);
+    if (!answers.full_size_clip) {
+      r.query_mode_unavailable = kTestClip;
+      return;
     }
+    for (const splat::QueryAnswer& a : answers.answers) selected_[a.query] = a.object;
+    modes_.push_back({"query", &selected_});
   }
+
+  // Whether query mode is scored.
+  bool query_mode() const { return modes_.size() > 1; }
 
   // LERF-Mask's script on test_mask/, or on the 3DOVS masks (on_ovs). Returns
   // the protocol's description for metrics.json.
@@ -233,12 +245,13 @@ EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const E
   metrics["scene"] = scene.string();
   metrics["mask_geometry"] =
       scoring.photos().active() ? "photos (renders resampled from the undistorted views)" : "views";
-  metrics["modes"] = o.query_results.empty() ? json{"oracle"} : json{"oracle", "query"};
+  metrics["modes"] = scoring.query_mode() ? json{"oracle", "query"} : json{"oracle"};
   if (!o.predictions.empty()) metrics["results"] = scoring.results();
-  if (!o.query_results.empty()) {
-    metrics["query_results"] = scoring.query_results();
-    metrics["queries_from"] = o.query_results.string();
-  }
+  if (!o.query_results.empty()) metrics["queries_from"] = o.query_results.string();
+  if (scoring.query_mode()) metrics["query_results"] = scoring.query_results();
+  if (!r.query_mode_unavailable.empty())
+    metrics["query_mode"] = {
+        {"available", false}, {"reason", r.query_mode_unavailable}, {"fetch", kFetchClip}};
   splat::write_text_atomically(out, metrics.dump(2) + "\n");
   return r;
 }

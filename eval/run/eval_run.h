@@ -46,7 +46,10 @@ struct EvalRunResult {
   // pixel accuracy (the 3DOVS reference metric).
   std::vector<double> miou, second;
   double psnr = -1, ssim = -1;  // -1 without renders
-  double center_rmse = -1;      // -1 without poses
+  // Not empty when query mode was asked for but not scored, and why: the
+  // answers came from the tests' tiny CLIP (QueryResults::full_size_clip).
+  std::string query_mode_unavailable;
+  double center_rmse = -1;  // -1 without poses
   double rotation_error_deg = -1;
 };
 

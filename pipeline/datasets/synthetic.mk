@@ -4,8 +4,9 @@
 # Not one of the paper's datasets: the report has no published figures.
 #
 # CLIP: the real ViT-B/16 when its files are in the default folder
-# (scripts/get_clip.sh), else the tiny random CLIP of the tests, which makes
-# the query-mode numbers meaningless but runs every step.
+# (scripts/get_clip.sh), else the tiny random CLIP of the tests, which runs
+# every step; op2gs-eval then marks query mode not available (n/a), as that
+# CLIP's answers mean nothing.
 
 DATA_ROOT ?= $(WORK_ROOT)/data
 SCENES ?= demo

@@ -309,4 +309,8 @@ Eigen::VectorXf ClipModel::encode_text(const std::vector<int32_t>& ids) const {
   return t.projection * pooled.row(0).transpose();
 }
 
+bool ClipModel::is_full_size() const {
+  return vision_.blocks.size() >= 12 && text_.blocks.size() >= 12 && embedding_size() >= 512;
+}
+
 }  // namespace splat

@@ -94,6 +94,11 @@ class ClipModel {
   int image_size() const { return vision_.image_size; }
   int embedding_size() const { return int(vision_.projection.rows()); }
   size_t context_length() const { return size_t(text_.position_embedding.rows()); }
+  // Whether the model has the size of a released CLIP (ViT-B/16, the paper's,
+  // or a larger one): at least 12 transformer blocks in each encoder and
+  // embeddings of at least 512 values. The tiny random CLIP of the tests (2
+  // blocks, 32 values) has not, and its similarities mean nothing.
+  bool is_full_size() const;
 
  private:
   ClipVisionWeights vision_;

@@ -1,6 +1,7 @@
 #include "splat/query/query_run.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <nlohmann/json.hpp>
 
@@ -58,6 +59,13 @@ QueryResults run_query(const fs::path& out, const QueryRunOptions& o) {
                      fmt::format("embeddings have {} values, the CLIP model {}",
                                  objects.objects.front().embedding.size(), clip.embedding_size()));
   QueryResults results;
+  results.full_size_clip = clip.is_full_size();
+  if (!results.full_size_clip)
+    spdlog::warn(
+        "{} is far smaller than any released CLIP (the tests' tiny CLIP?): the answers "
+        "mean nothing, and op2gs-eval will not score them; scripts/get_clip.sh fetches "
+        "CLIP ViT-B/16",
+        o.clip_dir.string());
   for (const ObjectEmbedding& obj : objects.objects) results.objects.push_back(obj.id);
   for (const std::string& query : o.queries) {
     Eigen::VectorXf text = Eigen::VectorXf::Zero(clip.embedding_size());
@@ -89,10 +97,12 @@ QueryResults run_query(const fs::path& out, const QueryRunOptions& o) {
     for (float s : a.similarities) csv += fmt::format(",{:.6f}", s);
     csv += "\n";
   }
-  const json j = {{"embeddings", o.embeddings.string()},
-                  {"templates", o.templates},
-                  {"objects", results.objects},
-                  {"queries", answers}};
+  const json j = {
+      {"embeddings", o.embeddings.string()},
+      {"clip", {{"folder", o.clip_dir.string()}, {"full_size", results.full_size_clip}}},
+      {"templates", o.templates},
+      {"objects", results.objects},
+      {"queries", answers}};
   write_text_atomically(out / "query.json", j.dump(2) + "\n");
   write_text_atomically(out / "similarity.csv", csv);
   return results;
@@ -103,6 +113,7 @@ QueryResults read_query_results(const fs::path& file) {
   try {
     const json j = json::parse(read_text_file(file));
     r.objects = j.at("objects").get<std::vector<int32_t>>();
+    if (j.contains("clip")) r.full_size_clip = j["clip"].at("full_size").get<bool>();
     for (const json& q : j.at("queries"))
       r.answers.push_back({q.at("query").get<std::string>(), q.at("object").get<int32_t>(),
                            q.at("similarity").get<float>(),

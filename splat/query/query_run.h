@@ -38,6 +38,9 @@ struct QueryAnswer {
 struct QueryResults {
   std::vector<int32_t> objects;
   std::vector<QueryAnswer> answers;
+  // Whether the answers come from a CLIP of a released size
+  // (ClipModel::is_full_size); the tiny test CLIP's are not to be scored.
+  bool full_size_clip = true;
   // The object chosen for a query, or -1 when the query was not asked.
   int32_t object_for(const std::string& query) const;
 };

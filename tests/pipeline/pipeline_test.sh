@@ -28,7 +28,11 @@ for f in sfm/scene/sparse/0/images.bin checkpoints/latest.ckpt vote/point_cloud.
 done
 [ -s "$tmp/run/report/report.html" ] || fail "no dataset report"
 grep -q "report: $tmp/run/report/report.html" "$tmp/first.log" || fail "the run did not say where the report is"
-grep -q '"query_results"' "$w/eval/metrics.json" || fail "metrics.json has no query-mode scores"
+# The demo answers its queries with the tests' tiny CLIP: query mode is marked
+# not available, with the reason, instead of scored.
+grep -q '"available": false' "$w/eval/metrics.json" || fail "metrics.json scores the tiny CLIP's answers"
+! grep -q '"query_results"' "$w/eval/metrics.json" || fail "metrics.json has query-mode scores of the tiny CLIP"
+grep -q "^Query mode: not available" "$tmp/first.log" || fail "the headline does not say query mode is not available"
 # COLMAP's OPENCV cameras were undistorted: masks are scored in the photos' geometry.
 grep -q '"mask_geometry": "photos' "$w/eval/metrics.json" || fail "masks not scored in the photos' geometry"
 # ... and the masks are also written over the photos (PHOTO_GEOMETRY=auto).
@@ -37,6 +41,7 @@ ls "$w/render/photo/masks/"*/*.png >/dev/null 2>&1 || fail "no masks in the phot
 "$bin/op2gs-report" --scene demo "$w/sfm/scene" "$w" --out "$tmp/check" --no-figures >/dev/null 2>&1 ||
   fail "metrics.json does not parse"
 grep -q "dual-opacity (query) mIoU" "$tmp/check/report.md" || fail "no query-mode row in the report"
+grep -q "| n/a | n/a |" "$tmp/check/report.md" || fail "the report's query columns are not marked n/a"
 
 echo "-- a second make does nothing"
 mk "${tiny[@]}" -q || fail "make -q says something is stale"

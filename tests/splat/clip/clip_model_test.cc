@@ -75,6 +75,26 @@ TEST(ClipModel, TextEncoderMatchesPyTorchReference) {
   }
 }
 
+TEST(ClipModel, TellsTheTestClipFromReleasedSizes) {
+  EXPECT_FALSE(tiny_model().is_full_size());  // the tests' tiny CLIP
+  // Weights of a given depth and embedding size (values unused: only the
+  // shapes are asked).
+  const auto model = [](int blocks, int embedding, int vision_width) {
+    ClipVisionWeights v;
+    v.blocks.resize(size_t(blocks));
+    v.projection = RowMatrix::Zero(embedding, vision_width);
+    ClipTextWeights t;
+    t.token_embedding = RowMatrix::Zero(2, embedding);
+    t.blocks.resize(12);
+    t.projection = RowMatrix::Zero(embedding, embedding);
+    return ClipModel(std::move(v), std::move(t));
+  };
+  EXPECT_TRUE(model(12, 512, 768).is_full_size());   // ViT-B/16, the paper's
+  EXPECT_TRUE(model(24, 768, 1024).is_full_size());  // ViT-L/14
+  EXPECT_FALSE(model(2, 512, 768).is_full_size());   // too shallow
+  EXPECT_FALSE(model(12, 32, 48).is_full_size());    // too narrow
+}
+
 TEST(ClipModel, ReadsShapesFromTheTensors) {
   const ClipModel& model = tiny_model();
   EXPECT_EQ(model.image_size(), 32);

@@ -233,13 +233,33 @@ TEST(StageTwo, EmbedsObjectsAnswersQueriesAndScoresQueryMode) {
                     *std::max_element(ans.similarities.begin(), ans.similarities.end()));
   }
   EXPECT_TRUE(fs::exists(a / "query/similarity.csv"));
+  EXPECT_FALSE(answers.full_size_clip);
+  EXPECT_FALSE(read_query_results(a / "query/query.json").full_size_clip);
 
+  // The tiny CLIP's answers are not scored: query mode is "not available",
+  // with the reason and the command that fetches the real CLIP.
   RenderRunOptions r;
   r.model = e.model;
   run_render(scene(), a / "render", r);
   eval::EvalRunOptions ev;
   ev.predictions = {{"dual", a / "render/masks"}};
   ev.query_results = a / "query/query.json";
+  const eval::EvalRunResult unscored = eval::run_evaluation(scene(), a / "tiny.json", ev);
+  EXPECT_EQ(unscored.modes, (std::vector<std::string>{"oracle"}));
+  EXPECT_NE(unscored.query_mode_unavailable.find("tiny"), std::string::npos);
+  const auto tiny = nlohmann::json::parse(testing_util::read_file(a / "tiny.json"));
+  EXPECT_FALSE(tiny["query_mode"]["available"].get<bool>());
+  EXPECT_NE(tiny["query_mode"]["fetch"].get<std::string>().find("scripts/get_clip.sh"),
+            std::string::npos);
+  EXPECT_FALSE(tiny.contains("query_results"));
+  EXPECT_EQ(tiny["modes"], nlohmann::json({"oracle"}));
+
+  // The same answers, as if a released CLIP had given them: the plumbing of
+  // query mode is scored.
+  auto released = nlohmann::json::parse(testing_util::read_file(a / "query/query.json"));
+  released["clip"]["full_size"] = true;
+  testing_util::write_file(a / "released_query.json", released.dump());
+  ev.query_results = a / "released_query.json";
   const eval::EvalRunResult scores = eval::run_evaluation(scene(), a / "metrics.json", ev);
   ASSERT_EQ(scores.modes, (std::vector<std::string>{"oracle", "query"}));
   EXPECT_LE(scores.miou[1], scores.miou[0] + 1e-12);  // the oracle is an upper bound
@@ -261,6 +281,21 @@ TEST(StageTwo, EmbedsObjectsAnswersQueriesAndScoresQueryMode) {
   ev.query_results = a / "oracle_query.json";
   const eval::EvalRunResult same = eval::run_evaluation(scene(), a / "metrics2.json", ev);
   EXPECT_DOUBLE_EQ(same.miou[1], same.miou[0]);
+
+  // The report of the tiny CLIP's scores: query columns marked n/a, with the
+  // reason, instead of numbers.
+  {
+    fs::create_directories(a / "tiny_work/eval");
+    fs::copy_file(a / "tiny.json", a / "tiny_work/eval/metrics.json");
+    eval::ReportOptions tiny_report;
+    tiny_report.scenes = {{"tiny", scene(), a / "tiny_work/eval/metrics.json", {}, {}, {}}};
+    const std::string tiny_md =
+        testing_util::read_file(eval::write_report(a / "tiny_report", tiny_report).markdown);
+    EXPECT_NE(tiny_md.find("dual (query) mIoU"), std::string::npos) << tiny_md;
+    EXPECT_NE(tiny_md.find("| n/a | n/a |"), std::string::npos) << tiny_md;
+    EXPECT_NE(tiny_md.find("Query mode: not available"), std::string::npos) << tiny_md;
+    EXPECT_NE(tiny_md.find("scripts/get_clip.sh"), std::string::npos) << tiny_md;
+  }
 
   // The report of this scene: oracle and query rows side by side, figures,
   // and a page that headless Chromium renders (not blank).
