@@ -94,13 +94,25 @@ bool not_available(const SceneData& s, const std::string& key) {
   return false;
 }
 
-// The note under a table with query columns that could not be scored.
+// The note under a table with query columns of the scene that could not be
+// scored; empty when they were.
+std::string query_mode_note(const SceneData& s) {
+  if (s.query_mode_unavailable.empty()) return "";
+  return std::string("Query mode: not available (") + kNotAvailable +
+         "): " + s.query_mode_unavailable;
+}
+
+// The first scene's note, for the tables of all scenes.
 std::string query_mode_note(const std::vector<SceneData>& scenes) {
   for (const SceneData& s : scenes)
-    if (!s.query_mode_unavailable.empty())
-      return std::string("Query mode: not available (") + kNotAvailable +
-             "): " + s.query_mode_unavailable;
+    if (std::string note = query_mode_note(s); !note.empty()) return note;
   return "";
+}
+
+// A note as a paragraph of both reports.
+void add_note(const std::string& note, std::string& md, std::string& html) {
+  md += note + "\n\n";
+  html += "<p>" + html_escape(note) + "</p>\n";
 }
 
 const Row* find_row(const SceneData& s, const std::string& key) {
@@ -120,7 +132,7 @@ std::vector<std::string> row_keys(const std::vector<SceneData>& scenes) {
     for (const Row& r : s.rows) add(r.key());
   for (const SceneData& s : scenes)
     for (const Row& r : s.rows)
-      if (not_available(s, r.prediction + " (query)")) add(r.prediction + " (query)");
+      if (!s.query_mode_unavailable.empty() && r.mode == "oracle") add(r.prediction + " (query)");
   return keys;
 }
 
@@ -174,6 +186,7 @@ Table dataset_table(const std::vector<SceneData>& scenes, Dataset d) {
   if (paper) t.header.insert(t.header.end(), {"paper mIoU", "paper mBIoU"});
   std::vector<double> sums(2 * keys.size() + 2, 0);
   std::vector<int> counts(sums.size(), 0);
+  std::vector<bool> not_scored(sums.size(), false);  // a scene's n/a in the column
   const auto add = [&](std::vector<std::string>& row, size_t col, double v) {
     row.push_back(cell(v));
     if (std::isfinite(v)) sums[col] += v, ++counts[col];
@@ -183,6 +196,7 @@ Table dataset_table(const std::vector<SceneData>& scenes, Dataset d) {
     for (size_t i = 0; i < keys.size(); ++i) {
       if (not_available(s, keys[i])) {
         row.insert(row.end(), {kNotAvailable, kNotAvailable});
+        not_scored[2 * i] = not_scored[2 * i + 1] = true;
         continue;
       }
       const Row* r = find_row(s, keys[i]);
@@ -198,15 +212,10 @@ Table dataset_table(const std::vector<SceneData>& scenes, Dataset d) {
   }
   if (scenes.size() > 1) {
     std::vector<std::string> mean = {"mean"};
-    for (size_t c = 0; c + (paper ? 0 : 2) < sums.size(); ++c) {
-      const bool scored = c >= 2 * keys.size() ||
-                          std::none_of(scenes.begin(), scenes.end(), [&](const SceneData& s) {
-                            return not_available(s, keys[c / 2]);
-                          });
-      mean.push_back(!scored                           ? kNotAvailable
+    for (size_t c = 0; c + (paper ? 0 : 2) < sums.size(); ++c)
+      mean.push_back(not_scored[c]                     ? kNotAvailable
                      : counts[c] == int(scenes.size()) ? cell(sums[c] / counts[c])
                                                        : "–");
-    }
     t.rows.push_back(mean);
   }
   return t;
@@ -447,10 +456,7 @@ ReportFiles write_report(const fs::path& out, const ReportOptions& o) {
   const Table summary = dataset_table(scenes, d);
   md += to_markdown(summary);
   html += to_html(summary);
-  if (const std::string note = query_mode_note(scenes); !note.empty()) {
-    md += note + "\n\n";
-    html += "<p>" + html_escape(note) + "</p>\n";
-  }
+  if (const std::string note = query_mode_note(scenes); !note.empty()) add_note(note, md, html);
   if (const auto ablation = ablation_table(scenes, d)) {
     md += to_markdown(*ablation);
     html += to_html(*ablation);
@@ -468,9 +474,8 @@ ReportFiles write_report(const fs::path& out, const ReportOptions& o) {
     const Table queries = query_table(s);
     md += to_markdown(queries);
     html += to_html(queries);
-    if (const std::string note = query_mode_note({s}); !note.empty()) {
-      md += note + "\n\n";  // instead of the similarities, which mean nothing
-      html += "<p>" + html_escape(note) + "</p>\n";
+    if (const std::string note = query_mode_note(s); !note.empty()) {
+      add_note(note, md, html);  // instead of the similarities, which mean nothing
     } else if (const auto sim = similarity_table(s)) {
       md += to_markdown(*sim);
       html += to_html(*sim);

@@ -186,8 +186,10 @@ struct VotingRun {
         scene(Scene::load(scene_dir, options.scene)),
         split(split_views(*scene, options.split)),
         folder(scene->root() / options.id_maps),
-        used(views_with_maps(*scene, split.train, folder, options.allow_missing, skipped)),
-        cull(options.vote.visibility == VoteVisibility::kDepth) {}
+        used(views_with_maps(*scene, split.train, folder, options.allow_missing, skipped)) {}
+
+  // The depth test, not the frustum only.
+  bool cull() const { return o.vote.visibility == VoteVisibility::kDepth; }
 
   const VoteRunOptions& o;
   CheckpointModel stage_one;
@@ -196,7 +198,6 @@ struct VotingRun {
   fs::path folder;           // of the ID maps
   std::vector<size_t> used;  // training views with an ID map
   CpuRenderer renderer;
-  bool cull;  // depth test, not the frustum only
 };
 
 // Reading a map and rendering its depth run for several views at once;
@@ -222,7 +223,7 @@ void collect_votes(VotingRun& run, LabelVotes& votes, std::map<int, size_t>& vie
                    p->ids = read_id_map(file);
                    check_id_map_aspect(file, p->ids, view.camera.width, view.camera.height);
                    p->camera = view.camera.resized(p->ids.width, p->ids.height);
-                   if (run.cull) {
+                   if (run.cull()) {
                      std::unique_ptr<RenderState> state = states.take();
                      p->depth = render_depth_map(run.renderer, model, p->camera, vote, &state);
                      states.give(std::move(state));
@@ -232,7 +233,7 @@ void collect_votes(VotingRun& run, LabelVotes& votes, std::map<int, size_t>& vie
                  }) &
              tbb::make_filter<std::shared_ptr<PreparedView>, void>(
                  tbb::filter_mode::serial_in_order, [&](const std::shared_ptr<PreparedView>& p) {
-                   votes.add_view(model, p->camera, p->ids, run.cull ? &p->depth : nullptr, vote);
+                   votes.add_view(model, p->camera, p->ids, run.cull() ? &p->depth : nullptr, vote);
                    for (int32_t id : p->ids_present) ++views_per_id[id];
                  }));
 }
@@ -245,10 +246,10 @@ void write_previews(const VotingRun& run, const fs::path& out) {
     const Camera& cam = run.scene->views()[v].camera;
     const GaussianModel& model = run.stage_one.model;
     const DepthMap depth =
-        run.cull ? render_depth_map(run.renderer, model, cam, run.o.vote) : DepthMap{};
+        run.cull() ? render_depth_map(run.renderer, model, cam, run.o.vote) : DepthMap{};
     write_image_rgb(
         out / "preview" / (stem_of(run.scene->views()[v].name) + ".png"),
-        label_preview(model, cam, *run.scene->image(v), run.cull ? &depth : nullptr, run.o.vote));
+        label_preview(model, cam, *run.scene->image(v), run.cull() ? &depth : nullptr, run.o.vote));
   }
 }
 
@@ -298,7 +299,7 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const V
   summary["id_maps"] = run.folder.string();
   summary["views_used"] = result.views_used;
   summary["views_skipped"] = result.views_skipped;
-  summary["visibility"] = run.cull ? "depth" : "frustum";
+  summary["visibility"] = run.cull() ? "depth" : "frustum";
   summary["depth_tolerance"] = o.vote.depth_tolerance;
 
   write_previews(run, out);
