@@ -21,6 +21,13 @@ cv::Mat as_mat(const ImageRGB& image) {
 
 }  // namespace
 
+ImageInfo read_image_info(const fs::path& file) {
+  const auto in = open_image_input(file);
+  const OIIO::ImageSpec& spec = in->spec();
+  return {spec.width, spec.height, spec.nchannels, int(spec.format.size() * 8),
+          spec.get_int_attribute("Orientation", 1)};
+}
+
 ImageRGB read_image_rgb(const fs::path& file) {
   auto in = open_image_input(file);
   const auto& spec = in->spec();

@@ -33,6 +33,15 @@ struct IdMap {
   uint16_t at(int x, int y) const { return ids[size_t(y) * width + x]; }
 };
 
+// What an image file's header says, without decoding its pixels.
+struct ImageInfo {
+  int width = 0, height = 0, channels = 0;
+  int bits = 8;         // per sample
+  int orientation = 1;  // EXIF orientation: 1 upright, 6 and 8 turned by 90 degrees, ...
+};
+// Throws InputError naming the file when it cannot be opened as an image.
+ImageInfo read_image_info(const std::filesystem::path& file);
+
 // Reads PNG (8/16 bit), JPEG, EXR, or anything else OpenImageIO reads, to RGB
 // in [0, 1]. Grey images are replicated to RGB; an alpha channel is dropped;
 // float (HDR) values are clamped to [0, 1]. Throws InputError naming the file.

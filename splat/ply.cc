@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -233,8 +235,11 @@ void skip_binary_element(std::istream& in, const PlyElement& e, const fs::path& 
   if (!in) throw InputError(file, fmt::format("truncated in element '{}'", e.name));
 }
 
-void read_binary_vertices(std::istream& in, const PlyElement& v, const VertexLayout& l,
-                          GaussianModel& m, const fs::path& file) {
+// Each decoded row of a vertex element, with its index.
+using RowSink = std::function<void(const std::vector<double>& row, size_t i)>;
+
+void read_binary_vertices(std::istream& in, const PlyElement& v, const RowSink& store,
+                          const fs::path& file) {
   const size_t stride = v.stride();
   std::vector<size_t> offsets;
   size_t off = 0;
@@ -257,14 +262,14 @@ void read_binary_vertices(std::istream& in, const PlyElement& v, const VertexLay
       const char* p = buffer.data() + r * stride;
       for (size_t k = 0; k < row.size(); ++k)
         row[k] = read_binary_value(p + offsets[k], v.properties[k].type);
-      store_row(row, l, start + r, m);
+      store(row, start + r);
     }
   }
 }
 
 // ASCII: elements before the vertex element are skipped line by line.
-void read_ascii_vertices(std::istream& in, const PlyElement& v, const VertexLayout& l,
-                         GaussianModel& m, const fs::path& file) {
+void read_ascii_vertices(std::istream& in, const PlyElement& v, const RowSink& store,
+                         const fs::path& file) {
   std::vector<double> row(v.properties.size());
   std::string line;
   for (size_t i = 0; i < v.count; ++i) {
@@ -281,13 +286,14 @@ void read_ascii_vertices(std::istream& in, const PlyElement& v, const VertexLayo
             file, fmt::format("vertex {}: property '{}' is not a number", i, v.properties[k].name));
       p = next;
     }
-    store_row(row, l, i, m);
+    store(row, i);
   }
 }
 
-}  // namespace
-
-GaussianModel read_gaussian_ply(const fs::path& file) {
+// Reads the header and finds the vertex element; `prepare` sees it first and
+// returns the sink its rows go to.
+void read_vertices(const fs::path& file,
+                   const std::function<RowSink(const PlyElement& vertex)>& prepare) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file, "cannot open file");
   const PlyHeader h = read_header(in, file);
@@ -300,7 +306,6 @@ GaussianModel read_gaussian_ply(const fs::path& file) {
           in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
       continue;
     }
-    const VertexLayout l = layout_of(e, file);
     if (h.binary && e.count > 0) {
       // Reject a lying vertex count before allocating for it.
       const auto here = in.tellg();
@@ -312,17 +317,54 @@ GaussianModel read_gaussian_ply(const fs::path& file) {
                                            "bytes, {} bytes follow the header",
                                            e.count, e.stride(), available));
     }
-    GaussianModel m;
+    const RowSink store = prepare(e);
+    if (h.binary)
+      read_binary_vertices(in, e, store, file);
+    else
+      read_ascii_vertices(in, e, store, file);
+    return;
+  }
+  throw InputError(file, "PLY has no 'vertex' element");
+}
+
+}  // namespace
+
+GaussianModel read_gaussian_ply(const fs::path& file) {
+  GaussianModel m;
+  read_vertices(file, [&](const PlyElement& e) -> RowSink {
+    const VertexLayout l = layout_of(e, file);
     m.resize(e.count);
     m.has_instance_opacity = l.instance_opacity >= 0;
     m.has_labels = l.label >= 0;
-    if (h.binary)
-      read_binary_vertices(in, e, l, m, file);
-    else
-      read_ascii_vertices(in, e, l, m, file);
-    return m;
-  }
-  throw InputError(file, "PLY has no 'vertex' element");
+    return [&m, l](const std::vector<double>& row, size_t i) { store_row(row, l, i, m); };
+  });
+  return m;
+}
+
+PointCloud read_point_ply(const fs::path& file) {
+  PointCloud cloud;
+  read_vertices(file, [&](const PlyElement& e) -> RowSink {
+    std::map<std::string, int> index;
+    for (size_t i = 0; i < e.properties.size(); ++i) index[e.properties[i].name] = int(i);
+    auto find = [&](std::initializer_list<const char*> names) {
+      for (const char* n : names)
+        if (const auto it = index.find(n); it != index.end()) return it->second;
+      return -1;
+    };
+    const int xyz[3] = {find({"x"}), find({"y"}), find({"z"})};
+    if (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0)
+      throw InputError(file, "not a point cloud: vertex properties x, y, z are missing");
+    const int rgb[3] = {find({"red", "diffuse_red", "r"}), find({"green", "diffuse_green", "g"}),
+                        find({"blue", "diffuse_blue", "b"})};
+    cloud.xyz.resize(e.count);
+    cloud.rgb.assign(e.count, {128, 128, 128});  // grey where the file has no colour
+    return [&cloud, xyz, rgb](const std::vector<double>& row, size_t i) {
+      cloud.xyz[i] = {row[xyz[0]], row[xyz[1]], row[xyz[2]]};
+      for (int k = 0; k < 3; ++k)
+        if (rgb[k] >= 0) cloud.rgb[i][k] = uint8_t(std::clamp(row[rgb[k]], 0.0, 255.0));
+    };
+  });
+  return cloud;
 }
 
 void write_gaussian_ply(const fs::path& file, const GaussianModel& m) {

@@ -13,7 +13,11 @@
 // OP2GS properties. Malformed or truncated files throw InputError naming the
 // file.
 
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
 #include <filesystem>
+#include <vector>
 
 #include "splat/gaussians.h"
 
@@ -24,5 +28,17 @@ GaussianModel read_gaussian_ply(const std::filesystem::path& file);
 // Writes binary little-endian, atomically. The OP2GS properties are written
 // when the model has them (has_instance_opacity / has_labels).
 void write_gaussian_ply(const std::filesystem::path& file, const GaussianModel& model);
+
+// A coloured point cloud (the sparse points of a capture).
+struct PointCloud {
+  std::vector<Eigen::Vector3d> xyz;
+  std::vector<std::array<uint8_t, 3>> rgb;  // grey where the file has no colour
+};
+
+// The vertices of any PLY point cloud (nerfstudio's sparse_pc.ply, Open3D's
+// and COLMAP's exports): x y z of any scalar type, and red green blue (or
+// diffuse_red ...) when present. ASCII or binary little-endian; errors as
+// read_gaussian_ply's.
+PointCloud read_point_ply(const std::filesystem::path& file);
 
 }  // namespace splat

@@ -1,29 +1,87 @@
 #include "splat/view_split.h"
 
+#include <algorithm>
 #include <filesystem>
+#include <set>
 
+#include "splat/dataset_layout.h"
 #include "splat/error.h"
 
 namespace splat {
 namespace fs = std::filesystem;
 
+namespace {
+
+SplitRule rule_for_layout(DatasetLayout layout) {
+  switch (layout) {
+    case DatasetLayout::kLerfMask:
+      return SplitRule::kLerfMask;
+    case DatasetLayout::kOvsPrepared:
+      return SplitRule::kSegmented;
+    case DatasetLayout::kOvsOriginal:
+      return SplitRule::kAll;
+    case DatasetLayout::kPhotos:
+      break;
+  }
+  return SplitRule::kEvery8;
+}
+
+// The image names of segmentations/<NN>/: the NN-th file of images/ sorted
+// by name, as the 3DOVS ground truth indexes them.
+std::set<std::string> segmented_views(const fs::path& root) {
+  const fs::path seg = root / "segmentations", images = root / "images";
+  if (!fs::is_directory(seg)) throw InputError(seg, "no segmentations/ folder to hold out");
+  std::vector<std::string> names;
+  for (const auto& f : fs::directory_iterator(images))
+    if (f.is_regular_file()) names.push_back(f.path().filename().string());
+  std::sort(names.begin(), names.end());
+  std::set<std::string> test;
+  for (const auto& d : fs::directory_iterator(seg)) {
+    const std::string n = d.path().filename().string();
+    if (!d.is_directory() || n.empty() || n.find_first_not_of("0123456789") != std::string::npos)
+      continue;
+    const size_t index = std::stoul(n);
+    if (index >= names.size())
+      throw InputError(d.path(), "no image with this index in " + images.string());
+    test.insert(names[index]);
+  }
+  return test;
+}
+
+std::string rule_name(SplitRule rule) {
+  switch (rule) {
+    case SplitRule::kLerfMask:
+      return "lerf-mask (images_train/)";
+    case SplitRule::kSegmented:
+      return "segmented views held out (segmentations/)";
+    case SplitRule::kEvery8:
+      return "every 8th view";
+    default:
+      break;
+  }
+  return "all views";
+}
+
+}  // namespace
+
 ViewSplit split_views(const Scene& scene, SplitRule rule) {
   ViewSplit s;
   const fs::path train_dir = scene.root() / "images_train";
-  if (rule == SplitRule::kAuto)
-    rule = fs::is_directory(train_dir) ? SplitRule::kLerfMask : SplitRule::kEvery8;
+  if (rule == SplitRule::kAuto) rule = rule_for_layout(detect_dataset_layout(scene.root()));
+  const std::set<std::string> segmented =
+      rule == SplitRule::kSegmented ? segmented_views(scene.root()) : std::set<std::string>{};
   const auto& views = scene.views();
   for (size_t i = 0; i < views.size(); ++i) {
     bool test = false;
     if (rule == SplitRule::kLerfMask) test = !fs::exists(train_dir / views[i].name);
+    if (rule == SplitRule::kSegmented) test = segmented.count(views[i].name) > 0;
     if (rule == SplitRule::kEvery8) test = i % 8 == 0;
     (test ? s.test : s.train).push_back(i);
   }
-  s.rule = rule == SplitRule::kLerfMask ? "lerf-mask (images_train/)"
-           : rule == SplitRule::kEvery8 ? "every 8th view"
-                                        : "all views";
+  s.rule = rule_name(rule);
   if (s.train.empty())
-    throw InputError(train_dir, "no training views (images_train/ matches no image of the model)");
+    throw InputError(rule == SplitRule::kLerfMask ? train_dir : scene.root(),
+                     "no training views (the split '" + s.rule + "' leaves none)");
   return s;
 }
 

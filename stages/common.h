@@ -59,6 +59,7 @@ inline splat::SplitRule parse_split(const std::string& name) {
   return parse_choice<splat::SplitRule>("--split", name,
                                         {{"auto", splat::SplitRule::kAuto},
                                          {"lerf", splat::SplitRule::kLerfMask},
+                                         {"segmented", splat::SplitRule::kSegmented},
                                          {"every8", splat::SplitRule::kEvery8},
                                          {"all", splat::SplitRule::kAll}});
 }
@@ -77,7 +78,9 @@ inline void add_scene_options(
   app.add_option("--resolution", scene.downscale, resolution_help)->capture_default_str();
   app.add_option("--images", scene.images_dir, "image folder inside the scene")
       ->capture_default_str();
-  app.add_option("--split", split, "train/test split: auto, lerf (images_train/), every8, all")
+  app.add_option("--split", split,
+                 "train/test split: auto (from the scene's layout), lerf (images_train/), "
+                 "segmented (3DOVS segmentations/ held out), every8, all")
       ->capture_default_str();
   app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
 }

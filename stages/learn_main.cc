@@ -43,7 +43,9 @@ int main(int argc, char** argv) {
   app.add_option("--objects-per-step", o.train.object_loss.objects_per_step,
                  "M, objects sampled per iteration")
       ->capture_default_str();
-  app.add_option("--id-maps", o.train.object_loss.id_maps, "ID map folder inside the scene")
+  app.add_option("--id-maps", o.train.object_loss.id_maps,
+                 "ID map folder inside the scene (auto: object_mask/ for LERF-Mask, sam2/ for "
+                 "photos, whichever exists)")
       ->capture_default_str();
   app.add_option("--lr-instance-opacity", o.train.lr_instance_opacity,
                  "learning rate of sigma* (as a logit)")

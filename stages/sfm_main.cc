@@ -30,12 +30,17 @@ int main(int argc, char** argv) {
                  "fail when fewer than this share of the views register")
       ->capture_default_str();
   app.add_option("--threads", o.threads, "COLMAP threads (0: all cores)")->capture_default_str();
+  app.add_option("--max-image-size", o.max_image_size,
+                 "SIFT on photos scaled to at most this many pixels on their long side "
+                 "(phone photos: faster; 1080p frames stay whole)")
+      ->capture_default_str();
   app.add_option("--id-map-dirs", o.id_map_dirs,
                  "ID map folders in the scene, resampled with the images when they are undistorted")
       ->capture_default_str();
   app.add_option("--colmap", o.colmap.binary, "the colmap binary")->capture_default_str();
   app.add_option("--import", import_model,
-                 "import this COLMAP model folder (binary or text) instead of running SfM");
+                 "import this COLMAP model folder (binary or text), or a nerfstudio / instant-ngp "
+                 "transforms.json, instead of running SfM");
   std::string truth;
   app.add_flag("--llff", o.llff,
                "use the cameras of <scene>/poses_bounds.npy (3DOVS); only triangulate points");

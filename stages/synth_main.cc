@@ -45,9 +45,26 @@ int main(int argc, char** argv) {
                  "mean run of consecutive views over which a miss or leak persists "
                  "(1: independent per view)")
       ->capture_default_str();
+  std::string shipping = "op2gs";
+  app.add_option("--as", shipping,
+                 "ship the scene as: op2gs (its own layout), lerf-mask-download (Gaussian "
+                 "Grouping's LERF-Mask download), nerfstudio or instant-ngp (transforms.json)")
+      ->capture_default_str();
+  app.add_option("--distortion", o.distortion,
+                 "render the photos through an OPENCV lens k1 k2 p1 p2")
+      ->expected(4);
+  app.add_flag("--3dovs-prepared", o.ovs_prepared,
+               "write the 3DOVS layout as ObjectGS prepares it (sparse/0/, object_mask_deva/)");
   app.add_flag("--force", force, "replace an existing output folder");
   return stages::run_stage(app, argc, argv, [&] {
     o.write_sparse = !no_sparse;
+    using synth::Shipping;
+    o.shipping =
+        stages::parse_choice<Shipping>("--as", shipping,
+                                       {{"op2gs", Shipping::kOp2gs},
+                                        {"lerf-mask-download", Shipping::kLerfMaskDownload},
+                                        {"nerfstudio", Shipping::kNerfstudio},
+                                        {"instant-ngp", Shipping::kInstantNgp}});
     synth::generate_scene(o, out, force);
     spdlog::info("scene written to {}", out);
   });

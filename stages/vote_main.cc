@@ -13,7 +13,10 @@ int main(int argc, char** argv) {
   app.add_option("work", work, "work folder of stage one; writes <work>/vote/")->required();
   app.add_option("--model", model,
                  "stage-one model: checkpoint or PLY (default <work>/checkpoints/latest.ckpt)");
-  app.add_option("--id-maps", o.id_maps, "ID map folder inside the scene")->capture_default_str();
+  app.add_option("--id-maps", o.id_maps,
+                 "ID map folder inside the scene (auto: object_mask/ for LERF-Mask, sam2/ for "
+                 "photos, whichever exists)")
+      ->capture_default_str();
   app.add_option("--visibility", visibility,
                  "depth: in the image and not occluded; frustum: in the image only")
       ->capture_default_str();

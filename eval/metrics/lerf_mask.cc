@@ -49,6 +49,8 @@ LerfMaskGroundTruth read_lerf_mask_ground_truth(const fs::path& scene) {
     }
   }
   gt.queries.assign(queries.begin(), queries.end());
+  for (size_t k = 0; k < gt.masks.size(); ++k)
+    if (gt.masks[k].empty()) gt.without_truth.push_back(gt.test_views[k]);
   return gt;
 }
 

@@ -20,6 +20,9 @@ struct LerfMaskGroundTruth {
   std::vector<std::string> queries;     // sorted names (file stems)
   // masks[k][query] = file, for the pairs that exist.
   std::vector<std::map<std::string, std::filesystem::path>> masks;
+  // Test views with no test_mask/<k>/ masks (teatime's view 1 as
+  // downloaded): skipped, as the reference script skips missing files.
+  std::vector<std::string> without_truth;
 };
 
 // Reads the layout of a scene folder. Throws splat::InputError when there is

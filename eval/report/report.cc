@@ -1,6 +1,7 @@
 #include "eval/report/report.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <cmath>
@@ -47,6 +48,10 @@ struct SceneData {
   // Set when query mode was asked for but not scored (metrics.json's
   // query_mode): why, and how to fetch the real CLIP.
   std::string query_mode_unavailable;
+  // What the scene's folder was read as, and the test views it has no
+  // ground truth for (metrics.json's layout, test_views_without_ground_truth).
+  std::string layout;
+  std::vector<std::string> without_truth;
 };
 
 // The cells of a query-mode figure that was not scored.
@@ -79,6 +84,8 @@ SceneData load_scene(const SceneReportInput& in) {
     throw splat::InputError(in.metrics, std::string("not an op2gs-eval metrics file: ") + e.what());
   }
   if (s.rows.empty()) throw splat::InputError(in.metrics, "holds no mask scores");
+  if (s.metrics.contains("layout")) s.layout = s.metrics["layout"].value("description", "");
+  s.without_truth = s.metrics.value("test_views_without_ground_truth", std::vector<std::string>{});
   if (s.metrics.contains("query_mode") && !s.metrics["query_mode"].value("available", true))
     s.query_mode_unavailable = s.metrics["query_mode"].value("reason", "") + ". " +
                                s.metrics["query_mode"].value("fetch", "") + ".";
@@ -100,6 +107,19 @@ std::string query_mode_note(const SceneData& s) {
   if (s.query_mode_unavailable.empty()) return "";
   return std::string("Query mode: not available (") + kNotAvailable +
          "): " + s.query_mode_unavailable;
+}
+
+// What the scene's folder was read as, and its test views without ground
+// truth; empty when there is nothing to say.
+std::string scene_notes(const SceneData& s) {
+  std::string note;
+  if (!s.layout.empty()) note = "Scene folder: " + s.layout + ".";
+  if (!s.without_truth.empty())
+    note += fmt::format(
+        " Test views without ground truth (not scored, as the reference script "
+        "skips them): {}.",
+        fmt::join(s.without_truth, ", "));
+  return note;
 }
 
 // The first scene's note, for the tables of all scenes.
@@ -464,6 +484,7 @@ ReportFiles write_report(const fs::path& out, const ReportOptions& o) {
   for (const SceneData& s : scenes) {
     md += "## " + s.input.name + "\n\n";
     html += "<h2>" + html_escape(s.input.name) + "</h2>\n";
+    if (const std::string note = scene_notes(s); !note.empty()) add_note(note, md, html);
     if (s.metrics.contains("image_quality")) {
       const std::string q = fmt::format("Test views: PSNR {:.2f} dB, SSIM {:.4f}",
                                         s.metrics["image_quality"]["psnr"].get<double>(),

@@ -1,5 +1,9 @@
 #include "eval/run/eval_run.h"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -11,6 +15,7 @@
 #include "eval/metrics/predictions.h"
 #include "splat/atomic_file.h"
 #include "splat/colmap_model.h"
+#include "splat/dataset_layout.h"
 #include "splat/error.h"
 #include "splat/image.h"
 #include "splat/image_quality.h"
@@ -161,10 +166,18 @@ class MaskScoring {
         add_row(p, mode, s.miou, s.mbiou, score_json(gt, s));
       }
     }
-    return {{"protocol", on_ovs ? "lerf-mask script on 3dovs masks (IoU and boundary IoU)"
-                                : "lerf-mask (IoU and boundary IoU, dilation ratio 0.02)"},
-            {"truth_width", o_.truth_width},
-            {"test_views", gt.test_views}};
+    json about = {{"protocol", on_ovs ? "lerf-mask script on 3dovs masks (IoU and boundary IoU)"
+                                      : "lerf-mask (IoU and boundary IoU, dilation ratio 0.02)"},
+                  {"truth_width", o_.truth_width},
+                  {"test_views", gt.test_views}};
+    if (!on_ovs && !gt.without_truth.empty()) {
+      spdlog::warn(
+          "{} of {} test views have no ground truth in test_mask/ and are not scored, as "
+          "the reference script skips them: {}",
+          gt.without_truth.size(), gt.test_views.size(), fmt::join(gt.without_truth, ", "));
+      about["test_views_without_ground_truth"] = gt.without_truth;
+    }
+    return about;
   }
 
   // The 3DOVS reference metric on segmentations/.
@@ -243,6 +256,9 @@ EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const E
   if (!o.renders.empty()) metrics["image_quality"] = image_quality(scene, o.renders, r);
   if (!o.poses.empty()) metrics["pose_accuracy"] = pose_accuracy_json(o, r);
   metrics["scene"] = scene.string();
+  const splat::DatasetLayout layout = splat::detect_dataset_layout(scene);
+  metrics["layout"] = {{"name", splat::layout_name(layout)},
+                       {"description", splat::layout_description(layout)}};
   metrics["mask_geometry"] =
       scoring.photos().active() ? "photos (renders resampled from the undistorted views)" : "views";
   metrics["modes"] = scoring.query_mode() ? json{"oracle", "query"} : json{"oracle"};

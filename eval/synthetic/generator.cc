@@ -13,6 +13,7 @@
 
 #include "eval/synthetic/raytracer.h"
 #include "splat/atomic_file.h"
+#include "splat/camera_distortion.h"
 #include "splat/id_maps.h"
 #include "splat/image.h"
 #include "splat/npy.h"
@@ -32,10 +33,26 @@ void SynthOptions::Check() const {
   if (num_points < 0) fail("num_points must be >= 0");
   if (!ovs_dir.empty() && (ovs_test_views < 1 || ovs_test_views > views))
     fail("ovs_test_views must be in 1..views");
+  if (!distortion.empty() && distortion.size() != 4)
+    fail("distortion is four OPENCV coefficients: k1 k2 p1 p2");
+  if (!distortion.empty() && shipping == Shipping::kLerfMaskDownload)
+    fail("the LERF-Mask download holds undistorted photos: no distortion");
+  if (ovs_prepared && ovs_dir.empty()) fail("a prepared 3DOVS layout needs its folder");
   sam2.Check();
 }
 
-std::string view_name(int i) { return fmt::format("frame_{:05d}.png", i); }
+std::string view_name(int i, const std::string& extension) {
+  return fmt::format("frame_{:05d}{}", i, extension);
+}
+
+splat::ColmapCamera photo_camera(const SynthOptions& o, const splat::Camera& c) {
+  splat::ColmapCamera camera{1, 1, uint64_t(c.width), uint64_t(c.height), {c.fx, c.fy, c.cx, c.cy}};
+  if (!o.distortion.empty()) {
+    camera.model_id = splat::camera_model_by_name("OPENCV")->id;
+    camera.params.insert(camera.params.end(), o.distortion.begin(), o.distortion.end());
+  }
+  return camera;
+}
 
 std::vector<splat::Camera> orbit_cameras(const SynthOptions& o, const SceneLayout& layout) {
   std::mt19937_64 rng(o.seed * 7919 + 1);
@@ -58,23 +75,36 @@ std::vector<splat::Camera> orbit_cameras(const SynthOptions& o, const SceneLayou
 
 namespace {
 
+// Renders the photo of `cam`, through the lens of `distorted` when given.
+splat::ColmapCamera model_camera(const splat::Camera& c) {
+  return {1, 1, uint64_t(c.width), uint64_t(c.height), {c.fx, c.fy, c.cx, c.cy}};
+}
+
 void render_view(const RayTracer& tracer, const splat::Camera& cam, int supersample,
-                 splat::ImageRGB& image, splat::IdMap& ids) {
+                 const splat::ColmapCamera* distorted, splat::ImageRGB& image, splat::IdMap& ids) {
   image = splat::ImageRGB(cam.width, cam.height);
   ids = splat::IdMap(cam.width, cam.height);
   const Eigen::Vector3d origin = cam.center();
+  const splat::ColmapCamera pinhole{
+      1, 1, uint64_t(cam.width), uint64_t(cam.height), {cam.fx, cam.fy, cam.cx, cam.cy}};
+  // The ray of a photo pixel position: the pinhole ray of where the lens maps it.
+  const auto ray = [&](double x, double y) {
+    if (!distorted) return cam.pixel_ray(x, y);
+    const Eigen::Vector2d u = splat::undistorted_position(*distorted, pinhole, x, y);
+    return cam.pixel_ray(u.x(), u.y());
+  };
   tbb::parallel_for(0, cam.height, [&](int y) {
     for (int x = 0; x < cam.width; ++x) {
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       for (int sy = 0; sy < supersample; ++sy)
         for (int sx = 0; sx < supersample; ++sx)
-          sum += tracer.trace(
-              origin, cam.pixel_ray(x + (sx + 0.5) / supersample, y + (sy + 0.5) / supersample));
+          sum +=
+              tracer.trace(origin, ray(x + (sx + 0.5) / supersample, y + (sy + 0.5) / supersample));
       sum /= double(supersample * supersample);
       float* px = image.pixel(x, y);
       for (int c = 0; c < 3; ++c) px[c] = float(sum[c]);
       // Pixel centres at +0.5 (the convention of splat::Camera).
-      ids.at(x, y) = uint16_t(tracer.instance_id(origin, cam.pixel_ray(x + 0.5, y + 0.5)));
+      ids.at(x, y) = uint16_t(tracer.instance_id(origin, ray(x + 0.5, y + 0.5)));
     }
   });
 }
@@ -84,7 +114,7 @@ void render_view(const RayTracer& tracer, const splat::Camera& cam, int supersam
 splat::ColmapModel sample_sparse_model(const RayTracer& tracer,
                                        const std::vector<splat::Camera>& cameras,
                                        const std::vector<std::string>& names, int num_points,
-                                       uint64_t seed) {
+                                       uint64_t seed, const splat::ColmapCamera* distorted) {
   struct Sample {
     bool valid = false;
     Eigen::Vector3d xyz;
@@ -108,18 +138,20 @@ splat::ColmapModel sample_sparse_model(const RayTracer& tracer,
       const Eigen::Vector2d px = cameras[v].camera_to_pixel(xc);
       if (px.x() < 0 || px.y() < 0 || px.x() >= cameras[v].width || px.y() >= cameras[v].height)
         continue;
+      const Eigen::Vector2d seen =
+          distorted
+              ? splat::distorted_position(*distorted, model_camera(cameras[v]), px.x(), px.y())
+              : px;
       const Eigen::Vector3d c = cameras[v].center();
       const double dist = (hit.point - c).norm();
       const Hit h = tracer.intersect(c, (hit.point - c) / dist, true);
-      if (std::abs(h.t - dist) < 1e-4 * dist + 1e-6) s.observations.emplace_back(int(v), px);
+      if (std::abs(h.t - dist) < 1e-4 * dist + 1e-6) s.observations.emplace_back(int(v), seen);
     }
     s.valid = s.observations.size() >= 2;
   });
 
   splat::ColmapModel model;
-  const splat::Camera& c0 = cameras.front();
-  model.cameras[1] = splat::ColmapCamera{
-      1, 1, uint64_t(c0.width), uint64_t(c0.height), {c0.fx, c0.fy, c0.cx, c0.cy}};
+  model.cameras[1] = distorted ? *distorted : model_camera(cameras.front());
   for (size_t v = 0; v < cameras.size(); ++v) {
     splat::ColmapImage im;
     im.image_id = uint32_t(v + 1);
@@ -152,17 +184,20 @@ RenderedScene render_scene(const SynthOptions& o, const SceneLayout& layout) {
   RenderedScene r;
   const RayTracer tracer(layout);
   r.cameras = orbit_cameras(o, layout);
-  for (int i = 0; i < o.views; ++i) r.names.push_back(view_name(i));
+  const std::string extension = o.shipping == Shipping::kOp2gs ? ".png" : ".jpg";
+  for (int i = 0; i < o.views; ++i) r.names.push_back(view_name(i, extension));
+  const splat::ColmapCamera lens = photo_camera(o, r.cameras.front());
+  const splat::ColmapCamera* distorted = o.distortion.empty() ? nullptr : &lens;
   r.images.resize(o.views);
   r.instance_maps.resize(o.views);
   std::atomic<int> done{0};
   tbb::parallel_for(0, o.views, [&](int i) {
-    render_view(tracer, r.cameras[i], o.supersample, r.images[i], r.instance_maps[i]);
+    render_view(tracer, r.cameras[i], o.supersample, distorted, r.images[i], r.instance_maps[i]);
     const int n = ++done;
     if (n % 10 == 0 || n == o.views) spdlog::info("rendered {}/{} views", n, o.views);
   });
-  if (o.write_sparse) {
-    r.sparse = sample_sparse_model(tracer, r.cameras, r.names, o.num_points, o.seed);
+  if (o.write_sparse || o.shipping != Shipping::kOp2gs || o.ovs_prepared) {
+    r.sparse = sample_sparse_model(tracer, r.cameras, r.names, o.num_points, o.seed, distorted);
     spdlog::info("sampled {} sparse points seen from >= 2 views", r.sparse.points3d.size());
   }
   return r;
@@ -212,7 +247,7 @@ void write_poses_bounds(const fs::path& file, const RenderedScene& r, const Scen
 
 void write_ovs_layout(const fs::path& dir, const RenderedScene& r,
                       const std::vector<splat::IdMap>& sam2, const SceneLayout& layout,
-                      int test_views) {
+                      int test_views, bool prepared) {
   const int n = int(r.images.size());
   const int digits = std::max(2, int(std::to_string(n - 1).size()));
   auto ovs_name = [&](int i) { return fmt::format("{:0{}d}", i, digits); };
@@ -221,7 +256,8 @@ void write_ovs_layout(const fs::path& dir, const RenderedScene& r,
   splat::write_text_atomically(dir / "segmentations" / "classes.txt", classes);
   tbb::parallel_for(0, n, [&](int i) {
     splat::write_image_rgb(dir / "images" / (ovs_name(i) + ".png"), r.images[i]);
-    splat::write_id_map(dir / "sam2" / (ovs_name(i) + ".png"), sam2[i], 8);
+    splat::write_id_map(dir / (prepared ? "object_mask_deva" : "sam2") / (ovs_name(i) + ".png"),
+                        sam2[i], 8);
   });
   // Test views spread over the sequence; in 3DOVS they are training views too.
   for (int k = 0; k < test_views; ++k) {
@@ -231,18 +267,33 @@ void write_ovs_layout(const fs::path& dir, const RenderedScene& r,
                             r.images[i].width, r.images[i].height,
                             object_mask(r.instance_maps[i], o.id));
   }
-  write_poses_bounds(dir / "poses_bounds.npy", r, layout);
+  if (!prepared) {
+    write_poses_bounds(dir / "poses_bounds.npy", r, layout);
+    return;
+  }
+  splat::ColmapModel model = r.sparse;  // the true cameras, under the 3DOVS names
+  for (auto& [id, image] : model.images) image.name = ovs_name(int(id) - 1) + ".png";
+  splat::write_colmap_model(model, dir / "sparse" / "0", splat::ColmapFormat::kBinary);
 }
 
+// The LERF-Mask layout: op2gs's own, or Gaussian Grouping's download (DEVA
+// maps in object_mask/, black on the test views; no op2gs extras).
 void write_layout(const fs::path& dir, const SynthOptions& o, const SceneLayout& layout,
                   const RenderedScene& r, const std::vector<splat::IdMap>& sam2) {
   const int n = int(r.images.size());
+  const bool download = o.shipping == Shipping::kLerfMaskDownload;
   tbb::parallel_for(0, n, [&](int i) {
+    const bool test = i % o.test_every == 0;
     splat::write_image_rgb(dir / "images" / r.names[i], r.images[i]);
-    if (i % o.test_every != 0)
-      splat::write_image_rgb(dir / "images_train" / r.names[i], r.images[i]);
-    splat::write_id_map(dir / "instance_gt" / (stem(r.names[i]) + ".png"), r.instance_maps[i], 8);
-    splat::write_id_map(dir / "sam2" / (stem(r.names[i]) + ".png"), sam2[i], 8);
+    if (!test) splat::write_image_rgb(dir / "images_train" / r.names[i], r.images[i]);
+    const std::string map_name = stem(r.names[i]) + ".png";
+    if (download) {
+      const splat::IdMap black(sam2[i].width, sam2[i].height);
+      splat::write_id_map(dir / "object_mask" / map_name, test ? black : sam2[i], 8);
+      return;
+    }
+    splat::write_id_map(dir / "instance_gt" / map_name, r.instance_maps[i], 8);
+    splat::write_id_map(dir / "sam2" / map_name, sam2[i], 8);
   });
   // test_mask/<k>/<query>.png, k = index among the test views sorted by name.
   std::set<std::string> queries;
@@ -255,6 +306,15 @@ void write_layout(const fs::path& dir, const SynthOptions& o, const SceneLayout&
                             r.images[i].width, r.images[i].height, mask);
       queries.insert(obj.name);
     }
+  }
+  if (download) {
+    splat::write_colmap_model(r.sparse, dir / "sparse" / "0", splat::ColmapFormat::kBinary);
+    // COLMAP's leftovers that the download carries.
+    splat::write_colmap_model(r.sparse, dir / "distorted" / "sparse" / "0",
+                              splat::ColmapFormat::kBinary);
+    for (const char* cfg : {"fusion.cfg", "patch-match.cfg"})
+      splat::write_text_atomically(dir / "stereo" / cfg, "");
+    return;
   }
   std::string query_list;
   for (const SceneObject& obj : layout.objects)
@@ -296,6 +356,73 @@ void write_layout(const fs::path& dir, const SynthOptions& o, const SceneLayout&
   splat::write_text_atomically(dir / "scene.json", meta.dump(2) + "\n");
 }
 
+// Camera to world in the OpenGL convention (x right, y up, z back), as
+// transforms.json holds it.
+json opengl_pose(const splat::Camera& c, const Eigen::Matrix3d& world_turn) {
+  Eigen::Matrix3d r = world_turn * c.R.transpose();
+  r.col(1) *= -1;
+  r.col(2) *= -1;
+  const Eigen::Vector3d t = world_turn * c.center();
+  json m = json::array();
+  for (int i = 0; i < 3; ++i) m.push_back({r(i, 0), r(i, 1), r(i, 2), t(i)});
+  m.push_back({0.0, 0.0, 0.0, 1.0});
+  return m;
+}
+
+// A posed capture as nerfstudio or instant-ngp writes it (generator.h).
+void write_capture(const fs::path& dir, const SynthOptions& o, const SceneLayout& layout,
+                   const RenderedScene& r, const std::vector<splat::IdMap>& sam2) {
+  const int n = int(r.images.size());
+  tbb::parallel_for(0, n, [&](int i) {
+    splat::write_image_rgb(dir / "images" / r.names[i], r.images[i]);
+    splat::write_id_map(dir / "sam2" / (stem(r.names[i]) + ".png"), sam2[i], 8);
+  });
+  json names = json::array();
+  for (const SceneObject& obj : layout.objects)
+    names.push_back({{"id", obj.id}, {"name", obj.name}});
+  splat::write_text_atomically(dir / "sam2" / "objects.json", names.dump(2) + "\n");
+
+  const bool ns = o.shipping == Shipping::kNerfstudio;
+  // nerfstudio turns COLMAP's world (x <-> y, z flipped) and says so.
+  Eigen::Matrix3d turn = Eigen::Matrix3d::Identity();
+  if (ns) turn << 0, 1, 0, 1, 0, 0, 0, 0, -1;
+  const splat::Camera& c0 = r.cameras.front();
+  json t = {{"w", c0.width}, {"h", c0.height}, {"fl_x", c0.fx},
+            {"fl_y", c0.fy}, {"cx", c0.cx},    {"cy", c0.cy}};
+  if (!ns) {
+    t["camera_angle_x"] = 2 * std::atan(0.5 * c0.width / c0.fx);
+    t["camera_angle_y"] = 2 * std::atan(0.5 * c0.height / c0.fy);
+    t["aabb_scale"] = 4;
+  }
+  if (!o.distortion.empty())
+    for (int k = 0; k < 4; ++k) t[std::array{"k1", "k2", "p1", "p2"}[k]] = o.distortion[k];
+  if (ns) {
+    t["camera_model"] = o.distortion.empty() ? "PINHOLE" : "OPENCV";
+    t["applied_transform"] = {{0.0, 1.0, 0.0, 0.0}, {1.0, 0.0, 0.0, 0.0}, {0.0, 0.0, -1.0, 0.0}};
+    t["ply_file_path"] = "sparse_pc.ply";
+  }
+  json frames = json::array();
+  for (int i = 0; i < n; ++i) {
+    // instant-ngp's captures often name their photos without extension.
+    const std::string path = "images/" + (ns ? r.names[i] : stem(r.names[i]));
+    frames.push_back({{"file_path", path}, {"transform_matrix", opengl_pose(r.cameras[i], turn)}});
+  }
+  t["frames"] = frames;
+  splat::write_text_atomically(dir / "transforms.json", t.dump(4) + "\n");
+  if (!ns) return;
+  std::string ply = fmt::format(
+      "ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\n"
+      "property float z\nproperty uint8 red\nproperty uint8 green\nproperty uint8 blue\n"
+      "end_header\n",
+      r.sparse.points3d.size());
+  for (const auto& [id, p] : r.sparse.points3d) {
+    const Eigen::Vector3d x = turn * p.xyz;
+    ply += fmt::format("{:.6f} {:.6f} {:.6f} {} {} {}\n", x.x(), x.y(), x.z(), p.rgb[0], p.rgb[1],
+                       p.rgb[2]);
+  }
+  splat::write_text_atomically(dir / "sparse_pc.ply", ply);
+}
+
 // Builds a folder under a temporary name and swaps it into place.
 void replace_dir(const fs::path& tmp, const fs::path& out, bool force) {
   if (fs::exists(out)) {
@@ -332,8 +459,11 @@ void generate_scene(const SynthOptions& o, const fs::path& out_dir, bool force) 
   const fs::path tmp = abs_out.parent_path() /
                        fmt::format(".{}.partial-{}", abs_out.filename().string(), ::getpid());
   fs::remove_all(tmp);
-  spdlog::info("writing the LERF-Mask layout to {}", out_dir.string());
-  write_layout(tmp, o, layout, r, sam2);
+  spdlog::info("writing the scene to {}", out_dir.string());
+  if (o.shipping == Shipping::kNerfstudio || o.shipping == Shipping::kInstantNgp)
+    write_capture(tmp, o, layout, r, sam2);
+  else
+    write_layout(tmp, o, layout, r, sam2);
   replace_dir(tmp, abs_out, force);
 
   if (!o.ovs_dir.empty()) {
@@ -342,7 +472,7 @@ void generate_scene(const SynthOptions& o, const fs::path& out_dir, bool force) 
         ovs.parent_path() / fmt::format(".{}.partial-{}", ovs.filename().string(), ::getpid());
     fs::remove_all(ovs_tmp);
     spdlog::info("writing the 3DOVS layout to {}", o.ovs_dir.string());
-    write_ovs_layout(ovs_tmp, r, sam2, layout, o.ovs_test_views);
+    write_ovs_layout(ovs_tmp, r, sam2, layout, o.ovs_test_views, o.ovs_prepared);
     replace_dir(ovs_tmp, ovs, force);
   }
 }

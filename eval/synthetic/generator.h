@@ -14,7 +14,23 @@
 //   scene.json                    how the scene was made (options, orbit, seed)
 //
 // and optionally the same scene in the 3DOVS layout (images/NN.png,
-// segmentations/, poses_bounds.npy) in a second folder.
+// segmentations/, poses_bounds.npy; or, prepared as the 3DGS papers do,
+// sparse/0/ and object_mask_deva/) in a second folder.
+//
+// The scene can also be shipped as users receive real captures
+// (docs/inputs.md), to test that they are read as they come:
+//   lerf-mask-download  Gaussian Grouping's LERF-Mask download: JPEG photos
+//                       frame_NNNNN.jpg, images_train/, DEVA-like ID maps in
+//                       object_mask/ (black on the test views), binary
+//                       sparse/0/, test_mask/, and COLMAP's leftovers
+//                       distorted/ and stereo/;
+//   nerfstudio          images/*.jpg, transforms.json (OpenGL poses with
+//                       nerfstudio's applied_transform) and sparse_pc.ply,
+//                       SAM2 ID maps in sam2/;
+//   instant-ngp         images/*.jpg, transforms.json with camera_angle_x and
+//                       file paths without extension, no points, sam2/.
+// With distortion set, the photos and ID maps are rendered through an OPENCV
+// lens and every camera file says so.
 
 #include <cstdint>
 #include <filesystem>
@@ -27,6 +43,8 @@
 #include "splat/colmap_model.h"
 
 namespace synth {
+
+enum class Shipping { kOp2gs, kLerfMaskDownload, kNerfstudio, kInstantNgp };
 
 struct SynthOptions {
   int views = 40;
@@ -44,6 +62,9 @@ struct SynthOptions {
   bool write_sparse = true;       // false: no sparse/ (for testing SfM from scratch)
   std::filesystem::path ovs_dir;  // if set: also write the 3DOVS layout here
   int ovs_test_views = 5;
+  bool ovs_prepared = false;  // the 3DOVS layout as ObjectGS prepares it
+  Shipping shipping = Shipping::kOp2gs;
+  std::vector<double> distortion;  // OPENCV k1 k2 p1 p2 of the photos; empty: pinhole
   Sam2CorruptionOptions sam2;
 
   void Check() const;  // throws std::invalid_argument with a one-line message
@@ -52,8 +73,8 @@ struct SynthOptions {
 // The orbit of cameras, one per view, in view order.
 std::vector<splat::Camera> orbit_cameras(const SynthOptions& options, const SceneLayout& layout);
 
-// Image file name of view i ("frame_00007.png").
-std::string view_name(int i);
+// Image file name of view i ("frame_00007.png", or .jpg).
+std::string view_name(int i, const std::string& extension = ".png");
 
 // Ray-traced images, exact ID maps and the sparse model of a scene, in memory.
 struct RenderedScene {
@@ -67,11 +88,15 @@ struct RenderedScene {
 class RayTracer;
 RenderedScene render_scene(const SynthOptions& options, const SceneLayout& layout);
 
+// The COLMAP camera of the photos: PINHOLE, or OPENCV with the distortion.
+splat::ColmapCamera photo_camera(const SynthOptions& options, const splat::Camera& pinhole);
+
 // Surface points seen from at least two views, with COLMAP tracks.
 splat::ColmapModel sample_sparse_model(const RayTracer& tracer,
                                        const std::vector<splat::Camera>& cameras,
                                        const std::vector<std::string>& names, int num_points,
-                                       uint64_t seed);
+                                       uint64_t seed,
+                                       const splat::ColmapCamera* distorted = nullptr);
 
 // Generates the scene into out_dir. The scene is built in a temporary folder
 // beside out_dir and renamed into place at the end; an existing out_dir is

@@ -1,13 +1,13 @@
 #include "eval/synthetic/sam2_corruption.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <opencv2/imgproc.hpp>
 #include <random>
 #include <stdexcept>
-
-#include <tbb/parallel_for.h>
 
 namespace synth {
 
@@ -237,8 +237,7 @@ std::vector<splat::IdMap> corrupt_sequence_like_sam2(const std::vector<splat::Id
           miss_part(map, id, px, nearest_to_box_point(map, px, px.pixels, e.miss.fx, e.miss.fy),
                     e.miss.size, o);
         if (e.leak.active && !leak_edge(px).empty())
-          leak_part(map, id, px,
-                    nearest_to_box_point(map, px, leak_edge(px), e.leak.fx, e.leak.fy),
+          leak_part(map, id, px, nearest_to_box_point(map, px, leak_edge(px), e.leak.fx, e.leak.fy),
                     e.leak.size, o);
       }
       Rng view_rng(view_seed(i));

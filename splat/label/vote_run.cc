@@ -13,6 +13,7 @@
 
 #include "splat/atomic_file.h"
 #include "splat/checkpoint.h"
+#include "splat/dataset_layout.h"
 #include "splat/error.h"
 #include "splat/id_maps.h"
 #include "splat/label/palette.h"
@@ -185,7 +186,7 @@ struct VotingRun {
         stage_one(read_model_file(options.model)),
         scene(Scene::load(scene_dir, options.scene)),
         split(split_views(*scene, options.split)),
-        folder(scene->root() / options.id_maps),
+        folder(scene->root() / resolve_id_map_folder(scene->root(), options.id_maps)),
         used(views_with_maps(*scene, split.train, folder, options.allow_missing, skipped)) {}
 
   // The depth test, not the frustum only.
@@ -276,7 +277,7 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const V
   VotingRun run(scene_dir, o, result.views_skipped);
   GaussianModel& model = run.stage_one.model;
   spdlog::info("{} Gaussians (iteration {}); voting over {} training views with {}/", model.size(),
-               run.stage_one.iteration, run.used.size(), o.id_maps);
+               run.stage_one.iteration, run.used.size(), run.folder.filename().string());
 
   // Voting passes over every Gaussian in every view: in spatial order, its
   // reads of the depth and ID maps and the depth render's tile lists hit the

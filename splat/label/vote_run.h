@@ -27,7 +27,9 @@ struct VoteRunOptions {
   SplitRule split = SplitRule::kAuto;
   // The stage-one model: a checkpoint (.ckpt) or a PLY.
   std::filesystem::path model;
-  std::string id_maps = "sam2";  // folder of ID maps inside the scene
+  // Folder of ID maps inside the scene; "auto": the one the scene's layout
+  // prefers among those present (dataset_layout.h).
+  std::string id_maps = "auto";
   VoteOptions vote;
   bool allow_missing = false;  // skip training views without an ID map (with a warning)
   int preview_views = 3;

@@ -13,12 +13,14 @@
 
 #include "splat/atomic_file.h"
 #include "splat/colmap_model.h"
+#include "splat/dataset_layout.h"
 #include "splat/error.h"
 #include "splat/image.h"
 #include "splat/photo_cameras.h"
 #include "splat/sfm/alignment.h"
 #include "splat/sfm/colmap_database.h"
 #include "splat/sfm/llff.h"
+#include "splat/sfm/transforms_json.h"
 #include "splat/sfm/undistort_id_maps.h"
 
 namespace splat {
@@ -34,6 +36,8 @@ void SfmOptions::Check() const {
   if (!vocab_tree.empty() && !fs::is_regular_file(vocab_tree))
     throw InputError(vocab_tree, "vocabulary tree not found");
   if (threads < 0) throw std::invalid_argument("threads must be >= 0");
+  if (max_image_size < 100)
+    throw std::invalid_argument("the maximum image size for SIFT must be >= 100 pixels");
   // Each is replaced inside <out>/scene/: a plain folder name, never a path.
   for (const std::string& dir : id_map_dirs)
     if (dir.empty() || dir == "." || dir == ".." || dir.find('/') != std::string::npos ||
@@ -120,7 +124,8 @@ bool is_pinhole(const ColmapModel& m) {
 // geometry.
 void link_user_files(const fs::path& user, const fs::path& scene, const std::string& images,
                      bool undistorted) {
-  std::set<std::string> own = {images, "sparse"};
+  // distorted/ and stereo/ are COLMAP's leftovers in the LERF-Mask download.
+  std::set<std::string> own = {images, "sparse", "distorted", "stereo"};
   if (undistorted) own.insert({"images_2", "images_4", "images_8"});
   for (const auto& f : fs::directory_iterator(user)) {
     const std::string name = f.path().filename().string();
@@ -208,14 +213,19 @@ class SfmController {
     o_.colmap.log_file = out_ / "colmap.log";
     images_ = user_ / o_.images_dir;
     names_ = image_names(images_);
-    // An imported pinhole model needs no COLMAP at all.
-    if (!o_.import_model.empty()) imported_ = read_imported_model(o_.import_model, images_);
-    fp_ = fmt::format("images {}\n", fmt::join(names_, "\n"));
+    check_photos();
+    if (is_transforms_json(o_.import_model))
+      read_capture();
+    else if (!o_.import_model.empty())
+      imported_ = read_imported_model(o_.import_model, images_);
+    fp_ = fmt::format("images {}\nmax image size {}\n", fmt::join(names_, "\n"), o_.max_image_size);
   }
 
   SfmResult run() {
     check_colmap();
-    if (imported_)
+    if (imported_ && triangulate_)
+      run_known_poses(*imported_, "import " + fs::absolute(o_.import_model).string());
+    else if (imported_)
       run_import();
     else if (o_.llff)
       run_llff();
@@ -229,8 +239,55 @@ class SfmController {
   }
 
  private:
+  // Every photo's header: EXIF-rotated photos are refused (COLMAP, SAM2 and
+  // the trainer would not agree on which way is up); photos of several sizes
+  // (portrait and landscape mixed) cannot share one camera.
+  void check_photos() {
+    std::set<std::pair<int, int>> sizes;
+    for (const std::string& name : names_) {
+      const ImageInfo info = read_image_info(images_ / name);
+      if (info.orientation != 1)
+        throw InputError(images_ / name,
+                         fmt::format("EXIF orientation {} (the photo is stored turned or "
+                                     "mirrored): store the photos upright first, e.g. `exiftran "
+                                     "-ai *.jpg` or `mogrify -auto-orient *.jpg`, and make the ID "
+                                     "maps from the upright photos",
+                                     info.orientation));
+      sizes.insert({info.width, info.height});
+    }
+    if (sizes.size() > 1 && o_.single_camera && o_.intrinsics.empty() && o_.import_model.empty() &&
+        !o_.llff) {
+      spdlog::warn(
+          "the photos have {} different sizes (portrait and landscape mixed?): one "
+          "camera per photo instead of one shared camera",
+          sizes.size());
+      o_.single_camera = false;
+    }
+  }
+
+  static bool is_transforms_json(const fs::path& p) {
+    return p.extension() == ".json" && fs::is_regular_file(p);
+  }
+
+  // A nerfstudio / instant-ngp capture: its poses are kept; its points too,
+  // if it has them, else COLMAP triangulates them for the poses.
+  void read_capture() {
+    TransformsCapture c = read_transforms_json(o_.import_model, images_);
+    if (!c.missing.empty())
+      spdlog::warn("{}: {} frame{} listed without a photo, skipped: {}", o_.import_model.string(),
+                   c.missing.size(), c.missing.size() == 1 ? "" : "s", fmt::join(c.missing, ", "));
+    spdlog::info("{} capture: {} frames, {} camera{}, {}", c.flavour, c.model.images.size(),
+                 c.model.cameras.size(), c.model.cameras.size() == 1 ? "" : "s",
+                 c.has_points ? fmt::format("{} points from {}", c.model.points3d.size(),
+                                            c.points_file.filename().string())
+                              : std::string("no points (COLMAP triangulates them)"));
+    triangulate_ = !c.has_points;
+    missing_ = c.missing;
+    imported_ = std::move(c.model);
+  }
+
   void check_colmap() {
-    const bool needs_colmap = !imported_ || !is_pinhole(*imported_);
+    const bool needs_colmap = !imported_ || !is_pinhole(*imported_) || triangulate_;
     bool cuda = false;
     if (needs_colmap && !o_.colmap.available(&cuda))
       throw ColmapError(
@@ -247,44 +304,80 @@ class SfmController {
     redo_ = true;
   }
 
-  // Known poses (3DOVS's poses_bounds.npy): features and matches, then COLMAP
-  // triangulates the points with the cameras held fixed.
+  // 3DOVS's poses_bounds.npy: known poses.
   void run_llff() {
-    const ImageRGB first = read_image_rgb(images_ / names_.front());
-    const ColmapModel known =
-        llff_to_colmap(user_ / "poses_bounds.npy", names_, first.width, first.height);
-    const std::vector<double>& params = known.cameras.at(1).params;
-    fp_ += fmt::format("llff {}\n", join(params));
-    step("feature extraction", [&] { run_feature_extraction("PINHOLE", params); });
+    const ImageInfo first = read_image_info(images_ / names_.front());
+    run_known_poses(llff_to_colmap(user_ / "poses_bounds.npy", names_, first.width, first.height),
+                    "llff");
+  }
+
+  // Known poses (LLFF, or a capture without points): features and matches of
+  // the posed photos, then COLMAP triangulates the points with the cameras
+  // held fixed.
+  void run_known_poses(const ColmapModel& known, const std::string& source) {
+    fp_ += fmt::format("{}\n{}", source, model_fingerprint(known));
+    const ColmapCamera& camera = known.cameras.begin()->second;
+    const bool shared = known.cameras.size() == 1;
+    const std::string model = camera_model_by_id(camera.model_id)->name;
+    std::vector<std::string> posed;
+    for (const auto& [id, image] : known.images) posed.push_back(image.name);
+    step("feature extraction", [&] {
+      run_feature_extraction(model, shared ? camera.params : std::vector<double>{}, shared, posed);
+    });
     fp_ += matcher_fingerprint();
     step("matching", [&] { run_matching(); });
     step("triangulation", [&] { run_triangulation(known); });
+  }
+
+  // The cameras and poses of a model, as text: a changed pose reruns the steps.
+  static std::string model_fingerprint(const ColmapModel& m) {
+    std::string f;
+    for (const auto& [id, c] : m.cameras)
+      f +=
+          fmt::format("camera {} {} {}x{} {}\n", id, c.model_id, c.width, c.height, join(c.params));
+    for (const auto& [id, i] : m.images)
+      f += fmt::format("image {} {} {:.12g} {:.12g}\n", i.name, i.camera_id,
+                       fmt::join(i.qvec.data(), i.qvec.data() + 4, " "),
+                       fmt::join(i.tvec.data(), i.tvec.data() + 3, " "));
+    return f;
   }
 
   void run_sfm_steps() {
     const bool known = !o_.intrinsics.empty();
     fp_ += fmt::format("camera {} single {} known {}\n", known ? "PINHOLE" : o_.camera_model,
                        o_.single_camera, join(o_.intrinsics));
-    step("feature extraction",
-         [&] { run_feature_extraction(known ? "PINHOLE" : o_.camera_model, o_.intrinsics); });
+    step("feature extraction", [&] {
+      run_feature_extraction(known ? "PINHOLE" : o_.camera_model, o_.intrinsics,
+                             o_.single_camera || known, {});
+    });
     fp_ += matcher_fingerprint();
     step("matching", [&] { run_matching(); });
     step("mapping", [&] { run_mapping(known); });
   }
 
-  void run_feature_extraction(const std::string& model, const std::vector<double>& params) {
+  // SIFT features of `only` (every photo if empty), with one shared camera
+  // or one per photo; `params` fixes the shared camera's intrinsics.
+  void run_feature_extraction(const std::string& model, const std::vector<double>& params,
+                              bool single_camera, const std::vector<std::string>& only) {
     fs::remove(database());
     std::vector<std::string> args = {"--database_path",
                                      database().string(),
                                      "--image_path",
                                      images_.string(),
                                      "--ImageReader.single_camera",
-                                     o_.single_camera || !params.empty() ? "1" : "0",
+                                     single_camera ? "1" : "0",
                                      "--ImageReader.camera_model",
                                      model,
                                      "--SiftExtraction.use_gpu",
-                                     gpu_ ? "1" : "0"};
+                                     gpu_ ? "1" : "0",
+                                     "--SiftExtraction.max_image_size",
+                                     std::to_string(o_.max_image_size)};
     if (!params.empty()) args.insert(args.end(), {"--ImageReader.camera_params", join(params)});
+    if (!only.empty()) {
+      const fs::path list = out_ / "image_list.txt";
+      write_text_atomically(list, fmt::format("{}\n", fmt::join(only, "\n")));
+      args.insert(args.end(), {"--image_list_path", list.string()});
+    }
     if (o_.threads)
       args.insert(args.end(), {"--SiftExtraction.num_threads", std::to_string(o_.threads)});
     o_.colmap.run("feature extraction", "feature_extractor", args);
@@ -403,9 +496,11 @@ class SfmController {
     link_user_files(user_, r_.scene, o_.images_dir, undistort);
     // Said here, where the user's folder is named, rather than only by the
     // later stages, which see the output scene.
-    if (!fs::exists(user_ / "sam2"))
-      spdlog::warn("{}: no sam2/ folder of ID maps; op2gs-vote and op2gs-learn need it",
-                   user_.string());
+    try {
+      resolve_id_map_folder(user_, "auto");
+    } catch (const InputError& e) {
+      spdlog::warn("{}; op2gs-vote and op2gs-learn need one", e.what());
+    }
   }
 
   // Against the true cameras, if given (after a similarity alignment).
@@ -438,7 +533,8 @@ class SfmController {
                           {"kept_model", r_.kept_model},
                           {"points", model.points3d.size()},
                           {"gpu", gpu_},
-                          {"imported", o_.import_model.string()}};
+                          {"imported", o_.import_model.string()},
+                          {"frames_without_photo", missing_}};
     write_text_atomically(out_ / "sfm.json", summary.dump(2) + "\n");
   }
 
@@ -456,8 +552,10 @@ class SfmController {
   std::vector<std::string> names_;
   std::optional<ColmapModel> imported_;
   bool gpu_ = false;
-  std::string fp_;     // fingerprint of the inputs and options of the steps so far
-  bool redo_ = false;  // a step ran, so every later one must run too
+  bool triangulate_ = false;          // the imported capture has poses but no points
+  std::vector<std::string> missing_;  // frames of a capture without their photo
+  std::string fp_;                    // fingerprint of the inputs and options of the steps so far
+  bool redo_ = false;                 // a step ran, so every later one must run too
   std::set<std::string> registered_;
   json accuracy_ = nullptr;
   SfmResult r_;

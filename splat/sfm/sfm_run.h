@@ -47,10 +47,17 @@ struct SfmOptions {
   enum class Gpu { kAuto, kOn, kOff } gpu = Gpu::kAuto;
   double min_registered_fraction = 0.5;  // fail below this share of views
   int threads = 0;                       // 0: COLMAP's default (all cores)
+  // SIFT runs on photos scaled down to this many pixels on their long side
+  // (COLMAP's default is 3200): a 1080p video frame stays whole, a 12-48 MP
+  // phone photo is scaled down 2-4x, which makes extraction several times
+  // faster. Features are found at the reduced size; poses are for the photos.
+  int max_image_size = 2000;
   ColmapCommand colmap;                  // the binary; its log is set by run_sfm
 
   // Import instead of running SfM: an existing COLMAP model folder (binary or
-  // text), undistorted if its cameras have distortion.
+  // text), or a nerfstudio / instant-ngp transforms.json (transforms_json.h;
+  // COLMAP triangulates the points when it has none); undistorted if its
+  // cameras have distortion.
   std::filesystem::path import_model;
   // Import the LLFF cameras of <scene>/poses_bounds.npy (3DOVS) instead of
   // estimating poses; COLMAP only triangulates the points, cameras fixed.
@@ -60,7 +67,8 @@ struct SfmOptions {
   std::filesystem::path truth;
   // Folders of ID maps (<stem>.png) in the scene that are resampled with the
   // images when COLMAP undistorts them, rather than linked as they are.
-  std::vector<std::string> id_map_dirs = {"sam2", "instance_gt"};
+  std::vector<std::string> id_map_dirs = {"sam2", "object_mask", "object_mask_deva",
+                                          "instance_gt"};
 
   void Check() const;  // throws std::invalid_argument
 };

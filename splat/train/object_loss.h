@@ -17,10 +17,12 @@
 namespace splat {
 
 struct ObjectLossOptions {
-  float weight = 0.f;            // lambda_o (the paper: 0.1); 0 turns the loss off
-  int objects_per_step = 3;      // M
-  std::string id_maps = "sam2";  // folder of ID maps inside the scene
-  void Check() const;            // throws std::invalid_argument
+  float weight = 0.f;        // lambda_o (the paper: 0.1); 0 turns the loss off
+  int objects_per_step = 3;  // M
+  // Folder of ID maps inside the scene; "auto": the one the scene's layout
+  // prefers among those present (dataset_layout.h).
+  std::string id_maps = "auto";
+  void Check() const;  // throws std::invalid_argument
 };
 
 // The object IDs (not 0) that occur in a map, ascending.

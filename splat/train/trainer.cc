@@ -9,6 +9,7 @@
 
 #include "splat/atomic_file.h"
 #include "splat/binary_io.h"
+#include "splat/dataset_layout.h"
 #include "splat/error.h"
 #include "splat/id_maps.h"
 #include "splat/image_quality.h"
@@ -61,8 +62,14 @@ void Trainer::start_instance_learning(const std::vector<int32_t>& labels) {
   model_.has_instance_opacity = true;
   adam_.reset_moments(ParamGroup::kInstanceOpacity);
   if (options_.object_loss.weight <= 0) return;
-  const fs::path folder = scene_->root() / options_.object_loss.id_maps;
-  for (size_t v : split_.train) require_id_map(folder, scene_->views()[v].name);
+  for (size_t v : split_.train) require_id_map(id_map_folder(), scene_->views()[v].name);
+}
+
+const fs::path& Trainer::id_map_folder() {
+  if (id_map_folder_.empty())
+    id_map_folder_ =
+        scene_->root() / resolve_id_map_folder(scene_->root(), options_.object_loss.id_maps);
+  return id_map_folder_;
 }
 
 bool Trainer::learns_instances() const {
@@ -73,8 +80,7 @@ const Trainer::ObjectMap& Trainer::object_map(size_t view) {
   if (object_maps_.size() != scene_->views().size()) object_maps_.resize(scene_->views().size());
   if (!object_maps_[view]) {
     const View& v = scene_->views()[view];
-    const fs::path folder = scene_->root() / options_.object_loss.id_maps;
-    const fs::path file = require_id_map(folder, v.name);
+    const fs::path file = require_id_map(id_map_folder(), v.name);
     auto m = std::make_unique<ObjectMap>();
     m->ids = read_id_map_for_view(file, v.camera.width, v.camera.height);
     m->objects = objects_in_map(m->ids);

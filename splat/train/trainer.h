@@ -128,6 +128,8 @@ class Trainer {
     std::vector<int32_t> objects;
   };
   const ObjectMap& object_map(size_t view);
+  // The object loss's ID map folder, resolved on first use.
+  const std::filesystem::path& id_map_folder();
 
   TrainOptions options_;
   std::unique_ptr<Scene> scene_;
@@ -140,6 +142,7 @@ class Trainer {
   int sh_degree_ = 0;
   std::mt19937_64 rng_;
   std::vector<size_t> view_stack_;
+  std::filesystem::path id_map_folder_;
   std::vector<std::unique_ptr<ObjectMap>> object_maps_;  // per view, loaded on first use
   CpuRenderer renderer_;
   // Reused from iteration to iteration.

@@ -6,7 +6,11 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
 #include "eval/synthetic/generator.h"
+#include "splat/atomic_file.h"
 #include "splat/colmap_model.h"
 #include "splat/error.h"
 #include "splat/id_maps.h"
@@ -67,12 +71,29 @@ std::vector<std::string> listing(const fs::path& dir) {
   return files;
 }
 
+// COLMAP's own reconstruction of the 12 photos, made once.
+struct Reconstruction {
+  fs::path out;
+  SfmResult result;
+  std::vector<std::string> user_files_before;
+};
+const Reconstruction& colmap_reconstruction() {
+  static const Reconstruction r = [] {
+    const auto before = listing(sfm_scene().scene);
+    const fs::path out = testing_util::process_temp_dir("sfm_colmap");
+    SfmOptions o;
+    o.gpu = SfmOptions::Gpu::kOff;
+    return Reconstruction{out, run_sfm(sfm_scene().scene, out, o), before};
+  }();
+  return r;
+}
+
 TEST(Sfm, RegistersEveryViewWithAccuratePosesAndReusesSteps) {
-  TempDir out;
-  const auto before = listing(sfm_scene().scene);
+  const fs::path out = colmap_reconstruction().out;
+  const auto before = colmap_reconstruction().user_files_before;
   SfmOptions o;
   o.gpu = SfmOptions::Gpu::kOff;
-  const SfmResult r = run_sfm(sfm_scene().scene, out.path(), o);
+  const SfmResult& r = colmap_reconstruction().result;
   EXPECT_EQ(r.registered, kViews);
   EXPECT_TRUE(r.unregistered.empty());
   EXPECT_EQ(listing(sfm_scene().scene), before);  // the user's folder is untouched
@@ -95,7 +116,7 @@ TEST(Sfm, RegistersEveryViewWithAccuratePosesAndReusesSteps) {
 
   // A rerun reuses extraction, matching and mapping.
   const auto log_size = fs::file_size(out / "colmap.log");
-  run_sfm(sfm_scene().scene, out.path(), o);
+  run_sfm(sfm_scene().scene, out, o);
   EXPECT_EQ(fs::file_size(out / "colmap.log"), log_size);
 }
 
@@ -208,6 +229,64 @@ TEST(Sfm, LlffCamerasAreKeptAndPointsTriangulated) {
   EXPECT_EQ(acc.matched, kViews);
   EXPECT_LT(acc.center_rmse, 1e-6);
   EXPECT_NEAR(acc.alignment.scale, 1.0, 1e-9);
+}
+
+// An instant-ngp transforms.json of `model`'s cameras (PINHOLE), without
+// points, beside the photos of the SfM scene; one frame names a photo that
+// is not there.
+fs::path instant_ngp_capture(const fs::path& dir, const ColmapModel& model) {
+  nlohmann::json frames = nlohmann::json::array();
+  for (const auto& [id, image] : model.images) {
+    const Eigen::Matrix3d r =
+        Eigen::Quaterniond(image.qvec[0], image.qvec[1], image.qvec[2], image.qvec[3])
+            .toRotationMatrix();
+    Eigen::Matrix4d c2w = Eigen::Matrix4d::Identity();
+    c2w.topLeftCorner<3, 3>() = r.transpose();
+    c2w.topRightCorner<3, 1>() = -r.transpose() * image.tvec;
+    c2w.col(1) *= -1;  // OpenCV to OpenGL axes
+    c2w.col(2) *= -1;
+    nlohmann::json m = nlohmann::json::array();
+    for (int i = 0; i < 4; ++i) m.push_back({c2w(i, 0), c2w(i, 1), c2w(i, 2), c2w(i, 3)});
+    frames.push_back(
+        {{"file_path", "images/" + fs::path(image.name).stem().string()}, {"transform_matrix", m}});
+  }
+  frames.push_back(
+      {{"file_path", "images/frame_00099"}, {"transform_matrix", frames[0]["transform_matrix"]}});
+  const ColmapCamera& c = model.cameras.begin()->second;
+  const nlohmann::json t = {{"camera_angle_x", 2 * std::atan(0.5 * c.width / c.params[0])},
+                            {"fl_x", c.params[0]},
+                            {"fl_y", c.params[1]},
+                            {"cx", c.params[2]},
+                            {"cy", c.params[3]},
+                            {"aabb_scale", 16},
+                            {"frames", frames}};
+  for (const char* folder : {"images", "sam2"})
+    fs::create_directory_symlink(sfm_scene().scene / folder, dir / folder);
+  testing_util::write_file(dir / "transforms.json", t.dump(2));
+  return dir / "transforms.json";
+}
+
+// A capture's poses are kept, its points triangulated by COLMAP; the poses
+// agree with COLMAP's own reconstruction of the same photos.
+TEST(Sfm, CaptureWithoutPointsIsTriangulatedAndAgreesWithColmapSfm) {
+  TempDir user, out;
+  SfmOptions o;
+  o.gpu = SfmOptions::Gpu::kOff;
+  o.import_model = instant_ngp_capture(user.path(), truth_of_first_views());
+  const SfmResult r = run_sfm(user.path(), out.path(), o);
+  EXPECT_EQ(r.registered, kViews);
+  const ColmapModel model = read_colmap_model(r.scene / "sparse" / "0");
+  EXPECT_GT(model.points3d.size(), 100u);
+  const nlohmann::json summary = nlohmann::json::parse(read_text_file(out / "sfm.json"));
+  EXPECT_EQ(summary["frames_without_photo"], nlohmann::json({"images/frame_00099"}));
+  const PoseAccuracy truth = pose_accuracy(model, read_colmap_model(sfm_scene().truth));
+  EXPECT_LT(truth.center_rmse, 1e-6);
+  const ColmapModel colmap =
+      read_colmap_model(colmap_reconstruction().result.scene / "sparse" / "0");
+  const PoseAccuracy acc = pose_accuracy(model, colmap);
+  EXPECT_EQ(acc.matched, kViews);
+  EXPECT_LT(acc.center_rmse / acc.alignment.scale, 0.01 * sfm_scene().orbit_radius);
+  EXPECT_LT(acc.rotation_error_deg, 1.0);
 }
 
 TEST(Sfm, MissingColmapSaysHowToInstallIt) {
