@@ -1,8 +1,10 @@
 # Your own photos: DATA_ROOT holds one folder per scene, each with images/ and
 # sam2/ (one ID map per image, docs/inputs.md); a COLMAP model in
 # sparse/0/ is used when present (undistorted first if its cameras have
-# distortion, as COLMAP's default SIMPLE_RADIAL has), else op2gs-sfm makes
-# one. There is no ground truth, so the run ends with the renders and masks,
+# distortion, as COLMAP's default SIMPLE_RADIAL has), else the poses of a
+# nerfstudio / instant-ngp transforms.json (its points, or points COLMAP
+# triangulates), else op2gs-sfm makes one with COLMAP (SFM_OPTS="--max-image-size
+# 3200" to find features in phone photos at more than the default 2000 px). There is no ground truth, so the run ends with the renders and masks,
 # and, given queries (QUERIES="red chair;lamp" for every scene, or
 # QUERIES_<scene>), the objects they select (<work>/<scene>/query/query.json).
 # When op2gs-sfm undistorted the photos, the masks are also written in the

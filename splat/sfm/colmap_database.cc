@@ -8,17 +8,39 @@
 
 namespace splat {
 
-std::map<std::string, DatabaseImage> read_database_images(const std::filesystem::path& file) {
+namespace {
+
+using Database = std::unique_ptr<sqlite3, decltype(&sqlite3_close)>;
+
+Database open_database(const std::filesystem::path& file) {
   sqlite3* raw = nullptr;
   if (sqlite3_open_v2(file.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
     sqlite3_close(raw);
     throw InputError(file, "cannot open the COLMAP database");
   }
-  const std::unique_ptr<sqlite3, decltype(&sqlite3_close)> db(raw, sqlite3_close);
+  return Database(raw, sqlite3_close);
+}
+
+sqlite3_stmt* prepare(const Database& db, const char* sql, const std::filesystem::path& file) {
   sqlite3_stmt* stmt = nullptr;
-  if (sqlite3_prepare_v2(db.get(), "SELECT image_id, camera_id, name FROM images", -1, &stmt,
-                         nullptr) != SQLITE_OK)
+  if (sqlite3_prepare_v2(db.get(), sql, -1, &stmt, nullptr) != SQLITE_OK)
     throw InputError(file, std::string("not a COLMAP database: ") + sqlite3_errmsg(db.get()));
+  return stmt;
+}
+
+}  // namespace
+
+uint64_t count_verified_matches(const std::filesystem::path& file) {
+  const Database db = open_database(file);
+  sqlite3_stmt* stmt = prepare(db, "SELECT COALESCE(SUM(rows), 0) FROM two_view_geometries", file);
+  const uint64_t n = sqlite3_step(stmt) == SQLITE_ROW ? uint64_t(sqlite3_column_int64(stmt, 0)) : 0;
+  sqlite3_finalize(stmt);
+  return n;
+}
+
+std::map<std::string, DatabaseImage> read_database_images(const std::filesystem::path& file) {
+  const Database db = open_database(file);
+  sqlite3_stmt* stmt = prepare(db, "SELECT image_id, camera_id, name FROM images", file);
   std::map<std::string, DatabaseImage> images;
   while (sqlite3_step(stmt) == SQLITE_ROW) {
     const auto* name = reinterpret_cast<const char*>(sqlite3_column_text(stmt, 2));

@@ -17,4 +17,9 @@ struct DatabaseImage {
 // Image name -> IDs. Throws InputError naming the file if it cannot be read.
 std::map<std::string, DatabaseImage> read_database_images(const std::filesystem::path& database);
 
+// The number of feature matches that passed geometric verification, over
+// all image pairs (COLMAP's two_view_geometries). Throws InputError naming
+// the file if it cannot be read.
+uint64_t count_verified_matches(const std::filesystem::path& database);
+
 }  // namespace splat

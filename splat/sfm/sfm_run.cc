@@ -218,7 +218,8 @@ class SfmController {
       read_capture();
     else if (!o_.import_model.empty())
       imported_ = read_imported_model(o_.import_model, images_);
-    fp_ = fmt::format("images {}\nmax image size {}\n", fmt::join(names_, "\n"), o_.max_image_size);
+    fp_ = fmt::format("images {}\nin {}\nmax image size {}\n", fmt::join(names_, "\n"),
+                      images_.string(), o_.max_image_size);
   }
 
   SfmResult run() {
@@ -244,8 +245,10 @@ class SfmController {
   // (portrait and landscape mixed) cannot share one camera.
   void check_photos() {
     std::set<std::pair<int, int>> sizes;
+    bool deep = false;
     for (const std::string& name : names_) {
       const ImageInfo info = read_image_info(images_ / name);
+      deep |= info.bits > 8;
       if (info.orientation != 1)
         throw InputError(images_ / name,
                          fmt::format("EXIF orientation {} (the photo is stored turned or "
@@ -263,6 +266,24 @@ class SfmController {
           sizes.size());
       o_.single_camera = false;
     }
+    if (deep) use_eight_bit_copies();
+  }
+
+  // COLMAP 3.8 cannot read 16-bit PNGs: it gets 8-bit copies (the views the
+  // trainer reads are 8-bit too once COLMAP undistorts them, as 3DGS's are).
+  // Copies are remade only when a photo is newer.
+  void use_eight_bit_copies() {
+    const fs::path copies = out_ / "images_8bit";
+    fs::create_directories(copies);
+    size_t made = 0;
+    for (const std::string& name : names_) {
+      const fs::path from = images_ / name, to = copies / name;
+      if (fs::exists(to) && fs::last_write_time(to) >= fs::last_write_time(from)) continue;
+      write_image_rgb(to, read_image_rgb(from));
+      ++made;
+    }
+    spdlog::info("16-bit photos: COLMAP reads 8-bit copies in {} ({} made)", copies.string(), made);
+    images_ = copies;
   }
 
   static bool is_transforms_json(const fs::path& p) {
@@ -381,6 +402,13 @@ class SfmController {
     if (o_.threads)
       args.insert(args.end(), {"--SiftExtraction.num_threads", std::to_string(o_.threads)});
     o_.colmap.run("feature extraction", "feature_extractor", args);
+    const size_t read = read_database_images(database()).size();
+    const size_t wanted = only.empty() ? names_.size() : only.size();
+    if (read < wanted)
+      throw ColmapError(
+          fmt::format("COLMAP could read only {} of the {} photos in {} (a format "
+                      "it does not read?); log {}",
+                      read, wanted, images_.string(), o_.colmap.log_file.string()));
   }
 
   bool sequential() const {
@@ -415,6 +443,13 @@ class SfmController {
   }
 
   void run_triangulation(const ColmapModel& known) {
+    // COLMAP aborts on an empty bundle adjustment: say why instead.
+    if (count_verified_matches(database()) == 0)
+      throw ColmapError(fmt::format(
+          "matching found no feature matches between the {} posed photos, so no points can be "
+          "triangulated: the photos are too small or overlap too little (give points with the "
+          "capture, e.g. nerfstudio's sparse_pc.ply); log {}",
+          known.images.size(), o_.colmap.log_file.string()));
     fs::remove_all(raw());
     fs::create_directories(raw() / "0");
     write_colmap_model(with_database_ids(known, database()), out_ / "llff_model",

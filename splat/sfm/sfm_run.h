@@ -52,7 +52,7 @@ struct SfmOptions {
   // phone photo is scaled down 2-4x, which makes extraction several times
   // faster. Features are found at the reduced size; poses are for the photos.
   int max_image_size = 2000;
-  ColmapCommand colmap;                  // the binary; its log is set by run_sfm
+  ColmapCommand colmap;  // the binary; its log is set by run_sfm
 
   // Import instead of running SfM: an existing COLMAP model folder (binary or
   // text), or a nerfstudio / instant-ngp transforms.json (transforms_json.h;
@@ -67,8 +67,7 @@ struct SfmOptions {
   std::filesystem::path truth;
   // Folders of ID maps (<stem>.png) in the scene that are resampled with the
   // images when COLMAP undistorts them, rather than linked as they are.
-  std::vector<std::string> id_map_dirs = {"sam2", "object_mask", "object_mask_deva",
-                                          "instance_gt"};
+  std::vector<std::string> id_map_dirs = {"sam2", "object_mask", "object_mask_deva", "instance_gt"};
 
   void Check() const;  // throws std::invalid_argument
 };

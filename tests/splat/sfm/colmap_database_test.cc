@@ -38,6 +38,21 @@ TEST(ColmapDatabase, ReadsTheIdsColmapGaveEachImage) {
   EXPECT_EQ(images.at("sub/a.png").camera_id, 2u);
 }
 
+TEST(ColmapDatabase, CountsTheVerifiedMatchesOfEveryPair) {
+  const testing_util::TempDir tmp;
+  const std::string table =
+      "CREATE TABLE two_view_geometries (pair_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT "
+      "NULL, cols INTEGER NOT NULL, data BLOB, config INTEGER NOT NULL);";
+  make_database(tmp / "none.db", table);
+  EXPECT_EQ(count_verified_matches(tmp / "none.db"), 0u);
+  make_database(tmp / "some.db", table +
+                                     "INSERT INTO two_view_geometries VALUES (1, 30, 2, NULL, 2);"
+                                     "INSERT INTO two_view_geometries VALUES (2, 12, 2, NULL, 2);");
+  EXPECT_EQ(count_verified_matches(tmp / "some.db"), 42u);
+  make_database(tmp / "images_only.db", "");
+  EXPECT_THROW(count_verified_matches(tmp / "images_only.db"), InputError);
+}
+
 TEST(ColmapDatabase, AMissingOrForeignFileNamesIt) {
   const testing_util::TempDir tmp;
   for (const auto& file : {tmp / "absent.db", tmp / "garbage.db"}) {

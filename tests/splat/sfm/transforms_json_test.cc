@@ -134,7 +134,8 @@ TEST(TransformsJson, IntrinsicsMapToColmapCameraModels) {
   json opencv = base;
   opencv.update({{"k1", 0.1}, {"k2", 0.2}, {"p1", 0.3}, {"p2", 0.4}});
   EXPECT_EQ(camera_of(dir.path(), opencv).model_id, camera_model_by_name("OPENCV")->id);
-  EXPECT_EQ(camera_of(dir.path(), opencv).params, (std::vector<double>{10, 11, 4, 3, 0.1, 0.2, 0.3, 0.4}));
+  EXPECT_EQ(camera_of(dir.path(), opencv).params,
+            (std::vector<double>{10, 11, 4, 3, 0.1, 0.2, 0.3, 0.4}));
   json full = opencv;
   full["k3"] = 0.5;
   EXPECT_EQ(camera_of(dir.path(), full).model_id, camera_model_by_name("FULL_OPENCV")->id);
@@ -142,7 +143,8 @@ TEST(TransformsJson, IntrinsicsMapToColmapCameraModels) {
   json fisheye = base;
   fisheye.update({{"camera_model", "OPENCV_FISHEYE"}, {"k1", 0.1}, {"k4", 0.4}});
   EXPECT_EQ(camera_of(dir.path(), fisheye).model_id, camera_model_by_name("OPENCV_FISHEYE")->id);
-  EXPECT_EQ(camera_of(dir.path(), fisheye).params, (std::vector<double>{10, 11, 4, 3, 0.1, 0, 0, 0.4}));
+  EXPECT_EQ(camera_of(dir.path(), fisheye).params,
+            (std::vector<double>{10, 11, 4, 3, 0.1, 0, 0, 0.4}));
   // instant-ngp: the focal length from the field of view; the size and the
   // principal point from the photo.
   const ColmapCamera angle = camera_of(dir.path(), {{"camera_angle_x", 2 * std::atan(0.5)}});
