@@ -46,8 +46,9 @@ TEST(LerfMask, ReadsTestViewsAndMasks) {
   EXPECT_EQ(gt.test_views, (std::vector<std::string>{"c.png", "d.png", "e.png"}));
   EXPECT_EQ(gt.queries, (std::vector<std::string>{"bear", "cup"}));
   EXPECT_EQ(gt.masks[0].size(), 1u);
-  EXPECT_TRUE(gt.masks[1].empty());  // a gap
+  EXPECT_TRUE(gt.masks[1].empty());  // a gap, as teatime's view 1 in the download
   EXPECT_EQ(gt.masks[2].size(), 2u);
+  EXPECT_EQ(gt.without_truth, std::vector<std::string>{"d.png"});
 }
 
 TEST(LerfMask, OraclePicksTheBestIdOnTheFirstViewAndScoresItEverywhere) {

@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include "eval/run/eval_run.h"
 #include "splat/atomic_file.h"
 #include "splat/error.h"
@@ -50,9 +52,25 @@ TEST(Report, WritesHtmlAndMarkdownWithTheScenesFigures) {
     EXPECT_NE(text->find("sam2-like"), std::string::npos);
     EXPECT_NE(text->find(fmt::format("{:.1f}", 100 * scored().result.miou[0])), std::string::npos);
   }
+  // What the scene's folder was read as.
+  EXPECT_NE(md.find("Scene folder: LERF-Mask layout"), std::string::npos) << md;
   // Self-contained: opens offline, from any folder.
   EXPECT_EQ(html.find("src=\"http"), std::string::npos);
   EXPECT_EQ(html.find("href=\"http"), std::string::npos);
+}
+
+TEST(Report, SaysWhichTestViewsHaveNoGroundTruth) {
+  const testing_util::TempDir tmp;
+  nlohmann::json m = nlohmann::json::parse(splat::read_text_file(scored().metrics));
+  m["test_views_without_ground_truth"] = {"frame_00009.jpg"};
+  splat::write_text_atomically(tmp / "metrics.json", m.dump());
+  ReportOptions o;
+  o.scenes = {{"teatime", scored().scene, tmp / "metrics.json", {}, {}, {}}};
+  const std::string md = splat::read_text_file(write_report(tmp / "report", o).markdown);
+  EXPECT_NE(md.find("Test views without ground truth (not scored, as the reference script skips "
+                    "them): frame_00009.jpg."),
+            std::string::npos)
+      << md;
 }
 
 TEST(Report, MissingMetricsNameTheFile) {

@@ -67,6 +67,32 @@ TEST(EvalRun, ExactPredictionsScorePerfectlyInBothModes) {
   EXPECT_DOUBLE_EQ(m["query_results"]["exact"]["miou"].get<double>(), r.miou[1]);
   EXPECT_EQ(m["test_views"].size(), 1u);  // views 0 of 6 (every 8th)
   EXPECT_TRUE(m.contains("image_quality"));
+  EXPECT_EQ(m["layout"]["name"], "lerf-mask");
+  EXPECT_FALSE(m.contains("test_views_without_ground_truth"));
+}
+
+// A test view whose test_mask/<k>/ is missing (teatime's view 1 as
+// downloaded) is not scored, and metrics.json lists it.
+TEST(EvalRun, TestViewWithoutGroundTruthIsListedNotScored) {
+  const testing_util::TempDir tmp;
+  const fs::path scene = tmp / "scene";
+  fs::create_directories(scene);
+  for (const char* d : {"images", "images_train", "test_mask", "instance_gt"})
+    fs::create_directory_symlink(scenes() / "lerf" / d, scene / d);
+  // A second test view, without ground truth: images/ gains a view that is
+  // not in images_train/.
+  fs::remove(scene / "images");
+  fs::create_directories(scene / "images");
+  for (const auto& f : fs::directory_iterator(scenes() / "lerf" / "images"))
+    fs::create_symlink(f.path(), scene / "images" / f.path().filename());
+  fs::create_symlink(scenes() / "lerf/images/frame_00001.png", scene / "images/frame_00001b.png");
+  EvalRunOptions o;
+  o.predictions = {{"exact", scenes() / "lerf" / "instance_gt"}};
+  const EvalRunResult r = run_evaluation(scene, tmp / "metrics.json", o);
+  EXPECT_GT(r.miou[0], 0.999);
+  const json m = json::parse(splat::read_text_file(tmp / "metrics.json"));
+  EXPECT_EQ(m["test_views"].size(), 2u);
+  EXPECT_EQ(m["test_views_without_ground_truth"], json({"frame_00001b.png"}));
 }
 
 TEST(EvalRun, WrongQueryAnswersLowerOnlyTheQueryMode) {
