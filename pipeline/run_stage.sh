@@ -13,6 +13,9 @@ start=$(date +%s)
   echo "# $(date -Is) $scene $stage"
   echo "# $command"
 } > "$log"
+# What libraries print themselves goes into the log, not the terminal
+# (stages/common.h, StageOutput).
+export OP2GS_LIBRARY_LOG="$log"
 if [ -n "$launch" ]; then
   $launch bash -c "$command" 2>&1 | tee -a "$log"
 else

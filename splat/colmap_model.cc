@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -105,6 +107,10 @@ class BinaryWriter {
   std::string buffer_;
 };
 
+bool all_finite(const std::vector<double>& values) {
+  return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
+}
+
 void check_camera(const ColmapCamera& cam, const fs::path& file) {
   const auto info = camera_model_by_id(cam.model_id);
   if (!info)
@@ -130,7 +136,11 @@ std::map<uint32_t, ColmapCamera> read_cameras_bin(const fs::path& file) {
       in.fail(fmt::format("camera {} has unknown model id {}", cam.camera_id, cam.model_id));
     cam.params.resize(info->num_params);
     for (double& p : cam.params) p = in.read<double>();
-    cameras[cam.camera_id] = std::move(cam);
+    if (!all_finite(cam.params))
+      in.fail(fmt::format("camera {} has a parameter that is NaN or infinite", cam.camera_id));
+    const uint32_t id = cam.camera_id;
+    if (!cameras.emplace(id, std::move(cam)).second)
+      in.fail(fmt::format("camera ID {} appears twice", id));
   }
   in.expect_end();
   return cameras;
@@ -155,7 +165,11 @@ std::map<uint32_t, ColmapImage> read_images_bin(const fs::path& file) {
       im.points2d[k].y() = in.read<double>();
       im.point3d_ids[k] = in.read<int64_t>();  // COLMAP writes uint64 max for "none"
     }
-    images[im.image_id] = std::move(im);
+    if (!im.qvec.allFinite() || !im.tvec.allFinite())
+      in.fail(fmt::format("image {} has a pose that is NaN or infinite", im.name));
+    const uint32_t id = im.image_id;
+    if (!images.emplace(id, std::move(im)).second)
+      in.fail(fmt::format("image ID {} appears twice", id));
   }
   in.expect_end();
   return images;
@@ -177,7 +191,9 @@ std::map<uint64_t, ColmapPoint3D> read_points3d_bin(const fs::path& file) {
       el.image_id = in.read<uint32_t>();
       el.point2d_idx = in.read<uint32_t>();
     }
-    points[p.point3d_id] = std::move(p);
+    const uint64_t id = p.point3d_id;
+    if (!points.emplace(id, std::move(p)).second)
+      in.fail(fmt::format("point ID {} appears twice", id));
   }
   in.expect_end();
   return points;
@@ -309,7 +325,10 @@ std::map<uint32_t, ColmapCamera> read_cameras_txt(const fs::path& file) {
     cam.params.resize(info->num_params);
     for (double& p : cam.params) p = in.field<double>("camera parameter");
     if (in.has_more()) in.fail(fmt::format("too many parameters for {}", info->name));
-    cameras[cam.camera_id] = std::move(cam);
+    if (!all_finite(cam.params)) in.fail("a camera parameter is NaN or infinite");
+    const uint32_t id = cam.camera_id;
+    if (!cameras.emplace(id, std::move(cam)).second)
+      in.fail(fmt::format("camera ID {} appears twice", id));
   }
   return cameras;
 }
@@ -325,6 +344,8 @@ std::map<uint32_t, ColmapImage> read_images_txt(const fs::path& file) {
     im.camera_id = in.field<uint32_t>("camera id");
     im.name = in.rest();
     if (im.name.empty()) in.fail("expected image name");
+    if (!im.qvec.allFinite() || !im.tvec.allFinite()) in.fail("the pose is NaN or infinite");
+    if (images.count(im.image_id)) in.fail(fmt::format("image ID {} appears twice", im.image_id));
     // The second line of each image lists its 2D points; it may be empty.
     if (!in.next_raw_line()) in.fail("missing the line of 2D points");
     while (in.has_more()) {
@@ -358,7 +379,9 @@ std::map<uint64_t, ColmapPoint3D> read_points3d_txt(const fs::path& file) {
       el.point2d_idx = in.field<uint32_t>("track point2D index");
       p.track.push_back(el);
     }
-    points[p.point3d_id] = std::move(p);
+    const uint64_t id = p.point3d_id;
+    if (!points.emplace(id, std::move(p)).second)
+      in.fail(fmt::format("point ID {} appears twice", id));
   }
   return points;
 }

@@ -57,14 +57,27 @@ IdMap resize_id_map_nearest(const IdMap& map, int width, int height) {
   return out;
 }
 
-void check_id_map_aspect(const fs::path& file, const IdMap& map, int width, int height) {
+namespace {
+
+void check_aspect(const fs::path& file, int map_width, int map_height, int width, int height) {
   // Same aspect ratio up to rounding: a map of round(W/s) x round(H/s) has
   // |map_h * W - map_w * H| <= (W + H) / 2 (and likewise when s < 1).
-  const double cross = std::abs(double(map.height) * width - double(map.width) * height);
-  const double slack = 0.5 * std::max(width + height, map.width + map.height) + 1e-9;
+  const double cross = std::abs(double(map_height) * width - double(map_width) * height);
+  const double slack = 0.5 * std::max(width + height, map_width + map_height) + 1e-9;
   if (cross > slack)
     throw InputError(file, fmt::format("ID map is {}x{}, not the aspect ratio of its view ({}x{})",
-                                       map.width, map.height, width, height));
+                                       map_width, map_height, width, height));
+}
+
+}  // namespace
+
+void check_id_map_aspect(const fs::path& file, const IdMap& map, int width, int height) {
+  check_aspect(file, map.width, map.height, width, height);
+}
+
+void check_id_map_header(const fs::path& file, int width, int height) {
+  const ImageInfo info = read_image_info(file);
+  check_aspect(file, info.width, info.height, width, height);
 }
 
 IdMap read_id_map_for_view(const fs::path& file, int width, int height) {

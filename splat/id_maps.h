@@ -43,6 +43,10 @@ IdMap resize_id_map_nearest(const IdMap& map, int width, int height);
 void check_id_map_aspect(const std::filesystem::path& file, const IdMap& map, int width,
                          int height);
 
+// The same from the file's header only, without decoding it: to stop a stage
+// before it writes anything rather than at the map's first use.
+void check_id_map_header(const std::filesystem::path& file, int width, int height);
+
 // Reads an ID map and brings it to width x height. Throws InputError naming
 // the file if it cannot be read or its aspect ratio differs from the view's
 // (beyond the rounding of one pixel).

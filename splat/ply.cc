@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -331,13 +332,23 @@ void read_vertices(const fs::path& file,
 
 GaussianModel read_gaussian_ply(const fs::path& file) {
   GaussianModel m;
+  size_t bad = 0, first_bad = 0;  // Gaussians with a NaN or infinite parameter
   read_vertices(file, [&](const PlyElement& e) -> RowSink {
     const VertexLayout l = layout_of(e, file);
     m.resize(e.count);
     m.has_instance_opacity = l.instance_opacity >= 0;
     m.has_labels = l.label >= 0;
-    return [&m, l](const std::vector<double>& row, size_t i) { store_row(row, l, i, m); };
+    return [&, l](const std::vector<double>& row, size_t i) {
+      if (!std::all_of(row.begin(), row.end(), [](double v) { return std::isfinite(v); }))
+        first_bad = bad++ ? first_bad : i;
+      store_row(row, l, i, m);
+    };
   });
+  // A broken model must not be voted on or rendered as if nothing were wrong.
+  if (bad)
+    throw InputError(file, fmt::format("{} of {} Gaussians have NaN or infinite parameters (the "
+                                       "first: vertex {})",
+                                       bad, m.size(), first_bad));
   return m;
 }
 

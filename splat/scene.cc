@@ -33,6 +33,19 @@ std::pair<int, int> target_size(int width, int height, const SceneOptions& o) {
 
 }  // namespace
 
+namespace {
+
+// Files in images_N/ may differ from the computed size by a rounding pixel.
+void check_file_size(const View& v, int width, int height) {
+  const int slack = v.file_is_downscaled ? 1 : 0;
+  if (std::abs(width - v.file_width) > slack || std::abs(height - v.file_height) > slack)
+    throw InputError(v.file, fmt::format("image is {}x{} but its camera in the COLMAP model says "
+                                         "{}x{}",
+                                         width, height, v.file_width, v.file_height));
+}
+
+}  // namespace
+
 std::unique_ptr<Scene> Scene::load(const fs::path& root, const SceneOptions& options) {
   options.Check();
   auto scene = std::make_unique<Scene>();
@@ -58,6 +71,10 @@ std::unique_ptr<Scene> Scene::load(const fs::path& root, const SceneOptions& opt
     v.file_height = use_scaled ? h : full.height;
     if (!fs::exists(v.file))
       throw InputError(v.file, fmt::format("image '{}' of the COLMAP model is missing", im.name));
+    // Every header now, so that a wrong or unreadable file stops the stage
+    // before it writes anything, not at the view's first use.
+    const ImageInfo info = read_image_info(v.file);
+    check_file_size(v, info.width, info.height);
     scene->views_.push_back(std::move(v));
   }
   std::sort(scene->views_.begin(), scene->views_.end(),
@@ -77,13 +94,7 @@ std::unique_ptr<Scene> Scene::load(const fs::path& root, const SceneOptions& opt
 ImageRGB Scene::load_view(size_t i) const {
   const View& v = views_.at(i);
   ImageRGB image = read_image_rgb(v.file);
-  // Files in images_N/ may differ from the computed size by a rounding pixel.
-  const int slack = v.file_is_downscaled ? 1 : 0;
-  if (std::abs(image.width - v.file_width) > slack ||
-      std::abs(image.height - v.file_height) > slack)
-    throw InputError(v.file, fmt::format("image is {}x{} but its camera in the COLMAP model says "
-                                         "{}x{}",
-                                         image.width, image.height, v.file_width, v.file_height));
+  check_file_size(v, image.width, image.height);
   if (image.width == v.camera.width && image.height == v.camera.height) return image;
   return resize_area(image, v.camera.width, v.camera.height);
 }

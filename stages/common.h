@@ -2,14 +2,20 @@
 // What every stage's main does around the library call: one-line errors on
 // stderr and a non-zero exit for bad input, logging set up the same way.
 
+#include <fcntl.h>
+#include <spdlog/sinks/ansicolor_sink.h>
 #include <spdlog/spdlog.h>
 #include <sys/resource.h>
 #include <tbb/global_control.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -94,6 +100,45 @@ inline std::string default_clip_dir() {
   return std::string(home ? home : ".") + "/.cache/op2gs/clip-vit-base-patch16";
 }
 
+// Where a stage's output goes while it runs: its own messages (spdlog) to the
+// terminal's stderr, one line each; what libraries print there themselves
+// (libpng's "libpng error: ...", decoders' warnings) to the file named by
+// $OP2GS_LIBRARY_LOG (pipeline/run_stage.sh sets it to the stage log), or
+// nowhere: the stage's own error line already says what went wrong.
+class StageOutput {
+ public:
+  StageOutput() : terminal_(::dup(2)) {
+    if (terminal_ < 0) return;
+    FILE* terminal = ::fdopen(terminal_, "w");
+    if (!terminal) return;
+    auto sink = std::make_shared<spdlog::sinks::ansicolor_sink<spdlog::details::console_mutex>>(
+        terminal, spdlog::color_mode::automatic);
+    spdlog::set_default_logger(std::make_shared<spdlog::logger>("op2gs", std::move(sink)));
+    const char* log = std::getenv("OP2GS_LIBRARY_LOG");
+    const int libraries = log && *log ? ::open(log, O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644)
+                                      : ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (libraries >= 0) ::dup2(libraries, 2), ::close(libraries);
+  }
+  ~StageOutput() {
+    std::fflush(stderr);
+    spdlog::default_logger()->flush();
+    if (terminal_ >= 0) ::dup2(terminal_, 2);
+  }
+  StageOutput(const StageOutput&) = delete;
+  StageOutput& operator=(const StageOutput&) = delete;
+
+ private:
+  int terminal_;
+};
+
+// A message as one line: libraries' own error texts (OpenImageIO's) may
+// hold several.
+inline std::string one_line(std::string message) {
+  while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
+  for (size_t p; (p = message.find('\n')) != std::string::npos;) message.replace(p, 1, "; ");
+  return message;
+}
+
 // Parses the command line and runs body; returns the process exit code:
 // 0 on success, 1 for bad input or a failed run, 2 for bad options.
 inline int run_stage(CLI::App& app, int argc, char** argv, const std::function<void()>& body) {
@@ -102,18 +147,21 @@ inline int run_stage(CLI::App& app, int argc, char** argv, const std::function<v
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  const StageOutput output;
   spdlog::set_pattern("[%H:%M:%S] %v");
   try {
     body();
     spdlog::info("peak memory {:.0f} MiB", peak_rss_mib());
     return 0;
   } catch (const splat::InputError& e) {
-    spdlog::error("{}", e.what());
+    spdlog::error("{}", one_line(e.what()));
   } catch (const std::invalid_argument& e) {
-    spdlog::error("invalid option: {}", e.what());
+    spdlog::error("invalid option: {}", one_line(e.what()));
     return 2;
+  } catch (const std::filesystem::filesystem_error& e) {
+    spdlog::error("{}: {}", e.path1().string(), e.code().message());
   } catch (const std::exception& e) {
-    spdlog::error("{}", e.what());
+    spdlog::error("{}", one_line(e.what()));
   }
   return 1;
 }

@@ -18,6 +18,7 @@ std::vector<std::string> read_lines(const std::string& file) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (!line.empty()) lines.push_back(line);
   }
+  if (lines.empty()) throw splat::InputError(file, "the query list is empty (one query a line)");
   return lines;
 }
 

@@ -43,7 +43,7 @@ struct PreparedView {
 };
 
 // Names of the IDs from <id maps>/objects.json: [{"id": 1, "name": ...}] or
-// {"1": "name"}. Anything else is ignored with a warning: names are optional.
+// {"1": "name"}. The file is optional; a file that is there must be right.
 std::map<int, std::string> read_object_names(const fs::path& file) {
   std::map<int, std::string> names;
   if (!fs::exists(file)) return names;
@@ -55,8 +55,9 @@ std::map<int, std::string> read_object_names(const fs::path& file) {
     else if (j.is_object())
       for (const auto& [k, v] : j.items()) names[std::stoi(k)] = v.get<std::string>();
   } catch (const std::exception& e) {
-    spdlog::warn("{}: object names ignored ({})", file.string(), e.what());
-    names.clear();
+    throw InputError(file, fmt::format("not a list of object names ([{{\"id\": 1, \"name\": "
+                                       "\"mug\"}}] or {{\"1\": \"mug\"}}): {}",
+                                       e.what()));
   }
   return names;
 }
@@ -287,6 +288,10 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const V
   LabelVotes votes(model.size());
   std::map<int, size_t> views_per_id;
   collect_votes(run, votes, views_per_id);
+  if (views_per_id.empty() || views_per_id.rbegin()->first <= 0)
+    throw InputError(run.folder,
+                     "no training view's ID map holds an object ID (every pixel is "
+                     "0, background): nothing to vote for");
   result.views_used = run.used.size();
   model.labels = votes.labels();
   model.has_labels = true;

@@ -302,6 +302,8 @@ class SfmController {
                  c.has_points ? fmt::format("{} points from {}", c.model.points3d.size(),
                                             c.points_file.filename().string())
                               : std::string("no points (COLMAP triangulates them)"));
+    if (c.applied_transform)
+      spdlog::info("applied_transform: kept, as nerfstudio applied it to the poses and the points");
     triangulate_ = !c.has_points;
     missing_ = c.missing;
     imported_ = std::move(c.model);
@@ -529,6 +531,7 @@ class SfmController {
     });
     if (undistort) undistort_user_id_maps(user_, r_.scene, model, o_);
     link_user_files(user_, r_.scene, o_.images_dir, undistort);
+    spdlog::info("scene folder: {}", layout_description(detect_dataset_layout(user_)));
     // Said here, where the user's folder is named, rather than only by the
     // later stages, which see the output scene.
     try {

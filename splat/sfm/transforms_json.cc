@@ -185,6 +185,7 @@ TransformsCapture read_transforms_json(const fs::path& file, const fs::path& ima
   TransformsCapture c;
   c.flavour =
       top.contains("camera_angle_x") || top.contains("aabb_scale") ? "instant-ngp" : "nerfstudio";
+  c.applied_transform = top.contains("applied_transform");
   const fs::path images = fs::weakly_canonical(images_dir);
   std::map<std::vector<double>, uint32_t> camera_ids;  // by model id, size and parameters
   std::set<std::string> names;

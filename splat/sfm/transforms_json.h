@@ -35,7 +35,8 @@ struct TransformsCapture {
   std::filesystem::path points_file;  // where the points came from
   // Frames listed whose photo is not there (file_path as written).
   std::vector<std::string> missing;
-  std::string flavour;  // "nerfstudio" or "instant-ngp"
+  std::string flavour;             // "nerfstudio" or "instant-ngp"
+  bool applied_transform = false;  // nerfstudio's, already in the poses and points
 };
 
 // Reads `file`; image names in the model are relative to `images_dir`, where

@@ -62,7 +62,11 @@ void Trainer::start_instance_learning(const std::vector<int32_t>& labels) {
   model_.has_instance_opacity = true;
   adam_.reset_moments(ParamGroup::kInstanceOpacity);
   if (options_.object_loss.weight <= 0) return;
-  for (size_t v : split_.train) require_id_map(id_map_folder(), scene_->views()[v].name);
+  for (size_t v : split_.train) {
+    const View& view = scene_->views()[v];
+    check_id_map_header(require_id_map(id_map_folder(), view.name), view.camera.width,
+                        view.camera.height);
+  }
 }
 
 const fs::path& Trainer::id_map_folder() {

@@ -32,14 +32,15 @@ std::vector<json> read_records(const fs::path& file) {
 }  // namespace
 
 TrainingLog::TrainingLog(const fs::path& file, int resume_iteration) : file_(file) {
-  std::string kept;
   if (resume_iteration > 0)
     for (const json& j : read_records(file))
-      if (j["iteration"].get<int>() <= resume_iteration) kept += j.dump() + "\n";
-  write_text_atomically(file, kept);
+      if (j["iteration"].get<int>() <= resume_iteration) kept_ += j.dump() + "\n";
 }
 
 void TrainingLog::append(const std::string& line) {
+  // The previous run's log is replaced only once this run has done an
+  // iteration: a run that fails at its start leaves it as it was.
+  if (!started_) write_text_atomically(file_, kept_), started_ = true;
   std::ofstream out(file_, std::ios::app);
   out << line << '\n';
 }

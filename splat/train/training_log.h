@@ -23,6 +23,8 @@ class TrainingLog {
  private:
   void append(const std::string& line);
   std::filesystem::path file_;
+  std::string kept_;  // the lines of a resumed run up to its checkpoint
+  bool started_ = false;
 };
 
 // Loss and PSNR against iteration from a JSON-lines log, as a PNG.

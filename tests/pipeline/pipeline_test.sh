@@ -6,13 +6,7 @@
 # that lacks its ID maps fails its stage while the other scenes of a -k run
 # go on; a scene whose own COLMAP model has distortion is undistorted.
 # Usage: pipeline_test.sh BIN_DIR
-set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-bin="$1"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
-mk() { make --no-print-directory -f "$root/pipeline/Makefile" BIN="$bin" "$@"; }
+source "$(dirname "${BASH_SOURCE[0]}")/test_lib.sh" "$1"
 
 tiny=(DATASET=synthetic WORK_ROOT="$tmp/run" SYNTH_OPTS="--supersample 1 --points 1500"
       ITERATIONS=300 STAGE_ONE=200 TRAIN_OPTS="--densify-from 50 --densify-until 150 --densify-every 50")

@@ -15,13 +15,7 @@
 #     mixed (op2gs-sfm alone), and one stored turned by its EXIF orientation
 #     (refused, naming it).
 # Usage: real_layouts_test.sh BIN_DIR
-set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-bin="$1"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
-mk() { make --no-print-directory -f "$root/pipeline/Makefile" BIN="$bin" "$@"; }
+source "$(dirname "${BASH_SOURCE[0]}")/test_lib.sh" "$1"
 synth() { "$bin/op2gs-synth" "$@" --views 10 --width 96 --height 72 --supersample 1 --points 600 \
   --test-every 4 >/dev/null 2>&1 || fail "op2gs-synth $*"; }
 tiny=(ITERATIONS=120 STAGE_ONE=80 CLIP="$root/tests/fixtures/tiny_clip"

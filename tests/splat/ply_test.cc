@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <cstring>
 #include <random>
 
@@ -156,6 +158,17 @@ TEST(Ply, LyingVertexCountIsRejected) {
   bytes.replace(bytes.find("vertex 3"), 8, "vertex 9999999999");
   write_file(dir / "m.ply", bytes);
   expect_rejected(dir / "m.ply", "truncated");
+}
+
+TEST(Ply, NanOrInfiniteParametersAreCounted) {
+  TempDir dir;
+  GaussianModel m = random_model(10, true);
+  m.means[3 * 2 + 1] = std::numeric_limits<float>::quiet_NaN();
+  m.log_scales[3 * 7] = std::numeric_limits<float>::infinity();
+  m.opacity_logits[7] = -std::numeric_limits<float>::infinity();
+  write_gaussian_ply(dir / "m.ply", m);
+  expect_rejected(dir / "m.ply", "2 of 10 Gaussians have NaN or infinite parameters (the first: "
+                                 "vertex 2)");
 }
 
 TEST(Ply, MalformedFilesAreRejected) {
