@@ -32,10 +32,11 @@ void plot_training_curve(const std::filesystem::path& jsonl, const std::filesyst
 
 // A one-line progress bar: iteration, loss, PSNR, Gaussians, it/s, ETA.
 // Redraws in place on a terminal; prints a line every `every` iterations
-// otherwise (logs, CI).
+// otherwise (logs, CI). On stdout: a stage's stderr carries its messages
+// only (docs/reliability.md).
 class ProgressBar {
  public:
-  ProgressBar(int start, int end, std::FILE* out = stderr);
+  ProgressBar(int start, int end, std::FILE* out = stdout);
   void update(const IterationStats& s);
   void finish();
 

@@ -128,12 +128,12 @@ TEST(Scene, BadInputNamesTheFile) {
     TempDir dir;
     make_scene(dir.path(), 1, 40, 30);
     write_image_rgb(dir / "images" / "v1000.png", ImageRGB(30, 30));  // wrong aspect ratio
-    const auto scene = Scene::load(dir.path(), SceneOptions{});
-    try {
-      scene->image(0);
+    try {  // found when the scene loads (from the header), not at the view's first use
+      Scene::load(dir.path(), SceneOptions{});
       FAIL();
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("v1000.png"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("30x30"), std::string::npos) << e.what();
     }
   }
   {

@@ -96,14 +96,12 @@ TEST(Trainer, NonFiniteLossStopsAndIsNeverCheckpointed) {
 TEST(Trainer, BadInputIsReportedWithTheFile) {
   TempDir dir;
   fs::copy(tiny_scene(), dir / "s", fs::copy_options::recursive);
-  {  // an image of the wrong size for its camera
+  {  // an image of the wrong size for its camera: found before training starts
     write_image_rgb(dir / "s" / "images" / "frame_00003.png", ImageRGB(50, 40));
     TrainOptions o = quick_options();
     o.split = SplitRule::kAll;
-    Trainer t(dir / "s", o);
-    t.initialize_from_sfm();
     try {
-      t.train_until(40);
+      Trainer t(dir / "s", o);
       FAIL() << "expected InputError";
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("frame_00003.png"), std::string::npos) << e.what();

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "splat/atomic_file.h"
 #include "splat/image.h"
 #include "tests/test_util.h"
 
@@ -66,12 +67,22 @@ TEST(TrainingLog, ResumeDropsWhatCameAfterTheCheckpointAndAPartialLine) {
     for (int i = 1; i <= 5; ++i) log.record(stats(i), i);
   }
   std::ofstream(file, std::ios::app) << R"({"iteration": 6, "lo)";  // killed mid-write
-  { TrainingLog resumed(file, 3); }
+  {
+    const std::string before = splat::read_text_file(file);
+    TrainingLog resumed(file, 3);
+    EXPECT_EQ(splat::read_text_file(file), before);  // untouched until the resumed run records
+    resumed.record(stats(4), 4);
+  }
   const std::vector<json> lines = read_lines(file);
-  ASSERT_EQ(lines.size(), 3u);
-  EXPECT_EQ(lines.back()["iteration"], 3);
-  { TrainingLog fresh(file, 0); }  // a new run starts an empty log
-  EXPECT_TRUE(read_lines(file).empty());
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_EQ(lines[2]["iteration"], 3);
+  EXPECT_EQ(lines.back()["iteration"], 4);
+  {  // a new run starts an empty log, once it has done an iteration
+    TrainingLog fresh(file, 0);
+    EXPECT_EQ(read_lines(file).size(), 4u);  // a run that fails at its start loses nothing
+    fresh.record(stats(1), 1);
+  }
+  EXPECT_EQ(read_lines(file).size(), 1u);
 }
 
 TEST(TrainingLog, PlotsTheCurveAsAnImage) {
