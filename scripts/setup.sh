@@ -32,7 +32,8 @@ packages=(
   libcli11-dev libfmt-dev libspdlog-dev libnanoflann-dev libsqlite3-dev libicu-dev colmap clang-format
 )
 
-if [ "$with_tests" -eq 1 ]; then packages+=(chromium); fi
+# The tests also drive headless Chromium and build the fuzz harnesses with clang.
+if [ "$with_tests" -eq 1 ]; then packages+=(chromium clang); fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -307,16 +307,20 @@ void read_vertices(const fs::path& file,
           in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
       continue;
     }
-    if (h.binary && e.count > 0) {
-      // Reject a lying vertex count before allocating for it.
+    if (e.properties.empty()) throw InputError(file, "the vertex element has no properties");
+    if (e.count > 0 && !e.has_list()) {  // (lists are refused with the layout)
+      // Reject a lying vertex count before allocating for it: a binary row
+      // takes its stride, an ASCII row at least a character and a separator
+      // per property.
       const auto here = in.tellg();
       in.seekg(0, std::ios::end);
       const auto available = uint64_t(in.tellg() - here);
       in.seekg(here);
-      if (available / e.stride() < e.count)
+      const size_t row = h.binary ? e.stride() : 2 * e.properties.size();
+      if (available / row < e.count)
         throw InputError(file, fmt::format("file is truncated: header says {} vertices of {} "
-                                           "bytes, {} bytes follow the header",
-                                           e.count, e.stride(), available));
+                                           "{}bytes, {} bytes follow the header",
+                                           e.count, row, h.binary ? "" : "or more ", available));
     }
     const RowSink store = prepare(e);
     if (h.binary)

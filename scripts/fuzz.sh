@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Builds the fuzz harnesses of the parsers (clang, with AddressSanitizer and
+# UndefinedBehaviorSanitizer; tests/fuzz/) and runs each for SECONDS on a copy
+# of its seed corpus (tests/fuzz/corpus/<parser>/). Prints the executions and
+# the crashes of each; exits 1 if any harness crashed, leaving the inputs
+# that did in OUT (default: a temporary folder, named in the output).
+# Usage: scripts/fuzz.sh [SECONDS] [BUILD_DIR] [OUT]
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+seconds="${1:-30}" build="${2:-$root/build-fuzz}" out="${3:-$(mktemp -d)}"
+mkdir -p "$out"
+command -v clang++ > /dev/null || { echo "fuzz: needs clang (apt-get install clang)" >&2; exit 1; }
+CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DOP2GS_FUZZ=ON -DOP2GS_BUILD_TESTS=OFF \
+  -DOP2GS_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=Release > "$out/configure.log" ||
+  { cat "$out/configure.log"; exit 1; }
+cmake --build "$build" -j"$(nproc)" --target fuzzers > "$out/build.log" ||
+  { tail -30 "$out/build.log"; exit 1; }
+total=0 crashed=0
+printf '%-22s %12s %8s\n' harness executions crashes
+for harness in "$build"/tests/fuzz/fuzz_*; do
+  [ -x "$harness" ] || continue
+  name=$(basename "$harness")
+  corpus="$out/corpus/${name#fuzz_}"
+  mkdir -p "$corpus" "$out/crashes/$name"
+  cp "$root/tests/fuzz/corpus/${name#fuzz_}"/* "$corpus/" 2> /dev/null || true
+  "$harness" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -print_final_stats=1 \
+    -artifact_prefix="$out/crashes/$name/" "$corpus" > "$out/$name.log" 2>&1 || true
+  runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$out/$name.log" | grep -o '[0-9]*$' || echo 0)
+  found=$(find "$out/crashes/$name" -type f | wc -l)
+  printf '%-22s %12s %8s\n' "$name" "$runs" "$found"
+  total=$((total + runs)) crashed=$((crashed + found))
+done
+echo "total: $total executions, $crashed crashes (inputs and logs in $out)"
+[ "$crashed" -eq 0 ]
