@@ -15,6 +15,7 @@ CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DOP2GS_FUZZ=ON -DOP2GS_BUILD_
   { cat "$out/configure.log"; exit 1; }
 cmake --build "$build" -j"$(nproc)" --target fuzzers > "$out/build.log" ||
   { tail -30 "$out/build.log"; exit 1; }
+export LSAN_OPTIONS="suppressions=$root/tests/fuzz/lsan.supp:print_suppressions=0"
 total=0 crashed=0
 printf '%-22s %12s %8s\n' harness executions crashes
 for harness in "$build"/tests/fuzz/fuzz_*; do

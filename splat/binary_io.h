@@ -32,6 +32,14 @@ template <typename T>
 std::vector<T> read_vector(std::istream& in, uint64_t max_elements = uint64_t(1) << 34) {
   const uint64_t n = read_pod<uint64_t>(in);
   if (n > max_elements) throw std::runtime_error("implausible array size");
+  // A lying size is refused before it is allocated, where the stream knows
+  // how much it holds.
+  if (const std::streampos here = in.tellg(); here != std::streampos(-1)) {
+    in.seekg(0, std::ios::end);
+    const std::streamoff left = in.tellg() - here;
+    in.seekg(here);
+    if (left < 0 || uint64_t(left) / sizeof(T) < n) throw std::runtime_error("truncated");
+  }
   std::vector<T> v(n);
   if (!in.read(reinterpret_cast<char*>(v.data()), std::streamsize(n * sizeof(T))))
     throw std::runtime_error("truncated");
