@@ -4,6 +4,8 @@
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
 #include "splat/error.h"
 
 namespace splat {
@@ -58,6 +60,31 @@ std::vector<std::string> id_map_folder_candidates(DatasetLayout layout) {
       break;
   }
   return {"sam2", "object_mask", "object_mask_deva"};
+}
+
+std::vector<std::string> sorted_image_names(const fs::path& scene) {
+  std::vector<std::string> names;
+  for (const auto& f : fs::directory_iterator(scene / "images"))
+    if (f.is_regular_file()) names.push_back(f.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::vector<SegmentedView> segmented_views(const fs::path& scene) {
+  const std::vector<std::string> images = sorted_image_names(scene);
+  std::vector<SegmentedView> views;
+  for (const auto& d : fs::directory_iterator(scene / "segmentations")) {
+    if (!d.is_directory()) continue;
+    const std::string name = d.path().filename().string();
+    if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos)
+      throw InputError(d.path(), "segmentation folders must be image indices");
+    const size_t index = std::stoul(name);
+    if (index >= images.size()) throw InputError(d.path(), "no image with this index in images/");
+    views.push_back({index, images[index], d.path()});
+  }
+  std::sort(views.begin(), views.end(),
+            [](const SegmentedView& a, const SegmentedView& b) { return a.index < b.index; });
+  return views;
 }
 
 std::string resolve_id_map_folder(const fs::path& scene, const std::string& requested) {

@@ -35,6 +35,19 @@ std::string layout_description(DatasetLayout layout);
 // sam2/ otherwise.
 std::vector<std::string> id_map_folder_candidates(DatasetLayout layout);
 
+// The 3DOVS ground truth's view indexing: segmentations/<NN>/ holds the masks
+// of the NN-th file of images/ sorted by name.
+struct SegmentedView {
+  size_t index = 0;             // into image_names(scene)
+  std::string image;            // its file name
+  std::filesystem::path masks;  // segmentations/<NN>/
+};
+// The files of <scene>/images/, sorted by name.
+std::vector<std::string> sorted_image_names(const std::filesystem::path& scene);
+// The segmented views, by index. Throws InputError naming the folder when a
+// folder of segmentations/ is not an image index or indexes no image.
+std::vector<SegmentedView> segmented_views(const std::filesystem::path& scene);
+
 // The ID map folder of a scene: `requested` itself unless it is "auto";
 // with "auto", the first of the layout's candidates that exists. Throws
 // InputError naming the scene and every folder looked for when none exists.

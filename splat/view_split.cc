@@ -1,6 +1,5 @@
 #include "splat/view_split.h"
 
-#include <algorithm>
 #include <filesystem>
 #include <set>
 
@@ -26,25 +25,12 @@ SplitRule rule_for_layout(DatasetLayout layout) {
   return SplitRule::kEvery8;
 }
 
-// The image names of segmentations/<NN>/: the NN-th file of images/ sorted
-// by name, as the 3DOVS ground truth indexes them.
-std::set<std::string> segmented_views(const fs::path& root) {
-  const fs::path seg = root / "segmentations", images = root / "images";
-  if (!fs::is_directory(seg)) throw InputError(seg, "no segmentations/ folder to hold out");
-  std::vector<std::string> names;
-  for (const auto& f : fs::directory_iterator(images))
-    if (f.is_regular_file()) names.push_back(f.path().filename().string());
-  std::sort(names.begin(), names.end());
+// The image names of segmentations/<NN>/ (dataset_layout.h).
+std::set<std::string> segmented_images(const fs::path& root) {
+  if (!fs::is_directory(root / "segmentations"))
+    throw InputError(root / "segmentations", "no segmentations/ folder to hold out");
   std::set<std::string> test;
-  for (const auto& d : fs::directory_iterator(seg)) {
-    const std::string n = d.path().filename().string();
-    if (!d.is_directory() || n.empty() || n.find_first_not_of("0123456789") != std::string::npos)
-      continue;
-    const size_t index = std::stoul(n);
-    if (index >= names.size())
-      throw InputError(d.path(), "no image with this index in " + images.string());
-    test.insert(names[index]);
-  }
+  for (const SegmentedView& v : segmented_views(root)) test.insert(v.image);
   return test;
 }
 
@@ -69,7 +55,7 @@ ViewSplit split_views(const Scene& scene, SplitRule rule) {
   const fs::path train_dir = scene.root() / "images_train";
   if (rule == SplitRule::kAuto) rule = rule_for_layout(detect_dataset_layout(scene.root()));
   const std::set<std::string> segmented =
-      rule == SplitRule::kSegmented ? segmented_views(scene.root()) : std::set<std::string>{};
+      rule == SplitRule::kSegmented ? segmented_images(scene.root()) : std::set<std::string>{};
   const auto& views = scene.views();
   for (size_t i = 0; i < views.size(); ++i) {
     bool test = false;

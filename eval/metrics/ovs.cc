@@ -4,6 +4,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "splat/dataset_layout.h"
 #include "splat/error.h"
 #include "splat/id_maps.h"
 
@@ -21,26 +22,12 @@ OvsGroundTruth read_ovs_ground_truth(const fs::path& scene) {
   }
   if (gt.classes.empty()) throw splat::InputError(list, "no classes");
   std::sort(gt.classes.begin(), gt.classes.end());
-  for (const auto& f : fs::directory_iterator(scene / "images"))
-    if (f.is_regular_file()) gt.images.push_back(f.path().filename().string());
-  std::sort(gt.images.begin(), gt.images.end());
-  std::vector<std::pair<size_t, fs::path>> dirs;
-  for (const auto& d : fs::directory_iterator(seg)) {
-    if (!d.is_directory()) continue;
-    const std::string name = d.path().filename().string();
-    if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos)
-      throw splat::InputError(d.path(), "segmentation folders must be image indices");
-    const size_t index = std::stoul(name);
-    if (index >= gt.images.size())
-      throw splat::InputError(d.path(), "no image with this index in images/");
-    dirs.emplace_back(index, d.path());
-  }
-  std::sort(dirs.begin(), dirs.end());
-  for (const auto& [index, dir] : dirs) {
-    gt.views.push_back(index);
+  gt.images = splat::sorted_image_names(scene);
+  for (const splat::SegmentedView& v : splat::segmented_views(scene)) {
+    gt.views.push_back(v.index);
     std::vector<fs::path> masks;
     for (const std::string& c : gt.classes) {
-      const fs::path f = dir / (c + ".png");
+      const fs::path f = v.masks / (c + ".png");
       masks.push_back(fs::exists(f) ? f : fs::path());
     }
     gt.masks.push_back(masks);

@@ -45,8 +45,17 @@ std::string view_name(int i, const std::string& extension) {
   return fmt::format("frame_{:05d}{}", i, extension);
 }
 
+namespace {
+
+// The PINHOLE camera of a view.
+splat::ColmapCamera model_camera(const splat::Camera& c) {
+  return {1, 1, uint64_t(c.width), uint64_t(c.height), {c.fx, c.fy, c.cx, c.cy}};
+}
+
+}  // namespace
+
 splat::ColmapCamera photo_camera(const SynthOptions& o, const splat::Camera& c) {
-  splat::ColmapCamera camera{1, 1, uint64_t(c.width), uint64_t(c.height), {c.fx, c.fy, c.cx, c.cy}};
+  splat::ColmapCamera camera = model_camera(c);
   if (!o.distortion.empty()) {
     camera.model_id = splat::camera_model_by_name("OPENCV")->id;
     camera.params.insert(camera.params.end(), o.distortion.begin(), o.distortion.end());
@@ -76,17 +85,12 @@ std::vector<splat::Camera> orbit_cameras(const SynthOptions& o, const SceneLayou
 namespace {
 
 // Renders the photo of `cam`, through the lens of `distorted` when given.
-splat::ColmapCamera model_camera(const splat::Camera& c) {
-  return {1, 1, uint64_t(c.width), uint64_t(c.height), {c.fx, c.fy, c.cx, c.cy}};
-}
-
 void render_view(const RayTracer& tracer, const splat::Camera& cam, int supersample,
                  const splat::ColmapCamera* distorted, splat::ImageRGB& image, splat::IdMap& ids) {
   image = splat::ImageRGB(cam.width, cam.height);
   ids = splat::IdMap(cam.width, cam.height);
   const Eigen::Vector3d origin = cam.center();
-  const splat::ColmapCamera pinhole{
-      1, 1, uint64_t(cam.width), uint64_t(cam.height), {cam.fx, cam.fy, cam.cx, cam.cy}};
+  const splat::ColmapCamera pinhole = model_camera(cam);
   // The ray of a photo pixel position: the pinhole ray of where the lens maps it.
   const auto ray = [&](double x, double y) {
     if (!distorted) return cam.pixel_ray(x, y);
