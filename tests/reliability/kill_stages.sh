@@ -33,7 +33,8 @@ for ((k = 1; k <= kills; k++)); do
   sleep "$(printf '%d.%03d' $((at_ms / 1000)) $((at_ms % 1000)))"
   kill -9 -- "-$leader" 2> /dev/null || true
   wait "$leader" 2> /dev/null || true
-  stage=$(grep -o '== demo: [a-z]*$' "$tmp/killed.log" | tail -1 | sed 's/== demo: //')
+  # No stage line yet when the kill came before the first stage started.
+  stage=$({ grep -o '== demo: [a-z]*$' "$tmp/killed.log" || true; } | tail -1 | sed 's/== demo: //')
   mk "${run[@]}" > "$tmp/after.log" 2>&1 || { tail -5 "$tmp/after.log"; fail "the run after kill $k failed"; }
   if [ "$(outputs)" != "$reference" ]; then
     diff <(echo "$reference") <(outputs) | head -5
