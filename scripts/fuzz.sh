@@ -15,6 +15,8 @@ CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DOP2GS_FUZZ=ON -DOP2GS_BUILD_
   { cat "$out/configure.log"; exit 1; }
 cmake --build "$build" -j"$(nproc)" --target fuzzers > "$out/build.log" ||
   { tail -30 "$out/build.log"; exit 1; }
+# The harnesses hand each input to the parsers as a file: in memory it is 4x faster.
+[ -d /dev/shm ] && [ -w /dev/shm ] && export TMPDIR="${TMPDIR:-/dev/shm}"
 export LSAN_OPTIONS="suppressions=$root/tests/fuzz/lsan.supp:print_suppressions=0"
 total=0 crashed=0
 printf '%-22s %12s %8s\n' harness executions crashes

@@ -425,7 +425,7 @@ void write_gaussian_ply(const fs::path& file, const GaussianModel& m) {
       out.write(buffer.data(), std::streamsize(buffer.size()));
     }
     out.close();
-    if (!out) throw InputError(file, "cannot write file");
+    if (!out) throw_write_error(file);
   });
 }
 

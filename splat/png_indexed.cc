@@ -1,10 +1,13 @@
 #include "splat/png_indexed.h"
 
+#include <fmt/format.h>
 #include <png.h>
 
 #include <algorithm>
 #include <csetjmp>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <new>
 #include <string>
@@ -46,6 +49,32 @@ bool has_png_signature(FILE* file) {
   return std::fread(signature, 1, 8, file) == 8 && png_sig_cmp(signature, 0, 8) == 0;
 }
 
+uint32_t big_endian(const png_byte* b) {
+  return uint32_t(b[0]) << 24 | uint32_t(b[1]) << 16 | uint32_t(b[2]) << 8 | b[3];
+}
+
+// Walks the chunk list after the signature: a chunk that claims more bytes
+// than the file has left would have libpng allocate that much (gigabytes,
+// from a few hundred bytes of file) before it finds the file cut short.
+void check_chunk_lengths(FILE* file, const fs::path& path) {
+  const long start = std::ftell(file);
+  std::fseek(file, 0, SEEK_END);
+  const long end = std::ftell(file);
+  std::fseek(file, start, SEEK_SET);
+  png_byte header[8];
+  while (std::fread(header, 1, 8, file) == 8) {
+    const uint64_t length = big_endian(header);
+    const long at = std::ftell(file);
+    if (uint64_t(end - at) < length + 4)
+      throw InputError(path, fmt::format("PNG chunk {:?} claims {} bytes, the file has {} left",
+                                         std::string(reinterpret_cast<char*>(header + 4), 4),
+                                         length, std::max(0L, end - at - 4)));
+    if (std::memcmp(header + 4, "IEND", 4) == 0) break;
+    std::fseek(file, long(length) + 4, SEEK_CUR);
+  }
+  std::fseek(file, start, SEEK_SET);
+}
+
 }  // namespace
 
 std::optional<IdMap> read_png_palette_indices(const fs::path& file) {
@@ -53,6 +82,7 @@ std::optional<IdMap> read_png_palette_indices(const fs::path& file) {
   PngReadState& s = *state;
   s.file = std::fopen(file.c_str(), "rb");
   if (!s.file || !has_png_signature(s.file)) return std::nullopt;
+  check_chunk_lengths(s.file, file);
   s.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &s, on_png_error, on_png_warning);
   if (!s.png) throw std::bad_alloc();
   s.info = png_create_info_struct(s.png);

@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "splat/atomic_file.h"
 #include "splat/error.h"
 #include "splat/view_split.h"
 #include "splat/work_layout.h"
@@ -74,6 +75,13 @@ inline splat::SplitRule parse_split(const std::string& name) {
 inline std::filesystem::path or_default(const std::string& given,
                                         const std::filesystem::path& fallback) {
   return given.empty() ? fallback : std::filesystem::path(given);
+}
+
+// An output folder the user named (--out) may hold other files; the default
+// one in the work folder is the stage's alone.
+inline splat::StagedFolder::Target staged_target(const std::string& given_out) {
+  return given_out.empty() ? splat::StagedFolder::Target::kOwned
+                           : splat::StagedFolder::Target::kShared;
 }
 
 // The options of every stage that reads a scene's views: --resolution,

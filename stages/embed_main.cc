@@ -44,7 +44,9 @@ int main(int argc, char** argv) {
     if (!background.empty()) std::copy_n(background.begin(), 3, o.crop_background.begin());
     const std::filesystem::path dir = stages::or_default(out, w.embed());
     const auto start = std::chrono::steady_clock::now();
-    const splat::ObjectEmbeddings e = splat::run_embed(scene, dir, o);
+    splat::StagedFolder outputs(dir, stages::staged_target(out));
+    const splat::ObjectEmbeddings e = splat::run_embed(scene, outputs.path(), o);
+    outputs.commit();
     size_t crops = 0;
     for (const auto& obj : e.objects) crops += obj.views.size();
     spdlog::info("{} objects embedded from {} crops in {:.1f} s; outputs in {}", e.objects.size(),

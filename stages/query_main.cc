@@ -51,7 +51,9 @@ int main(int argc, char** argv) {
     o.embeddings = stages::or_default(embeddings, w.embeddings());
     o.clip_dir = clip;
     const std::filesystem::path dir = stages::or_default(out, w.query());
-    const splat::QueryResults r = splat::run_query(dir, o);
+    splat::StagedFolder outputs(dir, stages::staged_target(out));
+    const splat::QueryResults r = splat::run_query(outputs.path(), o);
+    outputs.commit();
     size_t width = 5;
     for (const auto& a : r.answers) width = std::max(width, a.query.size());
     fmt::print("{:<{}}  object  similarity\n", "query", width);

@@ -67,7 +67,9 @@ int main(int argc, char** argv) {
                                                         {"auto", splat::PhotoGeometryMode::kAuto}});
     if (!background.empty()) std::copy_n(background.begin(), 3, o.background);
     const std::filesystem::path dir = stages::or_default(out, w.render());
-    const splat::RenderTiming t = splat::run_render(scene, dir, o);
+    splat::StagedFolder outputs(dir, stages::staged_target(out));
+    const splat::RenderTiming t = splat::run_render(scene, outputs.path(), o);
+    outputs.commit();
     spdlog::info(
         "{} views: colour {:.1f} ms, all-object masks {:.1f} ms ({:.2f}x), instance "
         "label map {:.1f} ms per view",

@@ -38,7 +38,10 @@ int main(int argc, char** argv) {
       s.queries = work.query_results();
       o.scenes.push_back(s);
     }
-    const eval::ReportFiles f = eval::write_report(out, o);
-    spdlog::info("report: {} and {}", f.html.string(), f.markdown.string());
+    splat::StagedFolder outputs(out, splat::StagedFolder::Target::kShared);
+    const eval::ReportFiles f = eval::write_report(outputs.path(), o);
+    outputs.commit();
+    spdlog::info("report: {} and {}", (outputs.target() / f.html.filename()).string(),
+                 (outputs.target() / f.markdown.filename()).string());
   });
 }

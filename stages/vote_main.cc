@@ -40,7 +40,9 @@ int main(int argc, char** argv) {
     o.vote.visibility = stages::parse_choice<splat::VoteVisibility>(
         "--visibility", visibility,
         {{"depth", splat::VoteVisibility::kDepth}, {"frustum", splat::VoteVisibility::kFrustum}});
-    const splat::VoteRunResult r = splat::run_voting(scene, w.vote(), o);
+    splat::StagedFolder outputs(w.vote(), splat::StagedFolder::Target::kOwned);
+    const splat::VoteRunResult r = splat::run_voting(scene, outputs.path(), o);
+    outputs.commit();
     spdlog::info(
         "{} Gaussians labelled from {} views: {} objects, {:.1f}% background "
         "({:.1f}% seen in no view), vote agreement {:.1f}%, {:.1f} s",

@@ -1,45 +1,74 @@
 #!/usr/bin/env bash
-# Every stage killed outright (kill -9 of make and everything it started) at
-# seeded random moments of a dataset run; the next make then finishes the
-# run, and its outputs are byte-identical to an uninterrupted run's. Left out
-# of the comparison: what records wall-clock time (the training logs'
-# elapsed_s, render/timing.json, vote/summary.json) and the logs.
+# Every stage of a dataset run killed outright (kill -9 of make and everything
+# it started), KILLS times per stage at seeded random moments inside it; the
+# next make then finishes the run, and its outputs are byte-identical to an
+# uninterrupted run's. Left out of the comparison: what records wall-clock
+# time (the training logs' elapsed_s, render/timing.json, vote/summary.json)
+# and the logs.
 # Usage: kill_stages.sh BIN_DIR [KILLS] [SEED]
 source "$(dirname "${BASH_SOURCE[0]}")/../pipeline/test_lib.sh" "$1"
-kills="${2:-8}" seed="${3:-1}"
-"$bin/op2gs-synth" "$tmp/data/demo" --views 10 --width 96 --height 72 --supersample 1 --points 800 \
-  > /dev/null 2>&1 || fail "op2gs-synth"
-run=(DATASET=photos DATA_ROOT="$tmp/data" WORK_ROOT="$tmp/work" ITERATIONS=150 STAGE_ONE=100
-     TRAIN_OPTS="--densify-until 0" CLIP="$root/tests/fixtures/tiny_clip" QUERIES="ball")
+kills="${2:-2}" seed="${3:-1}"
+# A LERF-Mask scene as downloaded, so that every stage runs, queries and
+# evaluation included; its COLMAP model is imported (COLMAP's own SfM is not
+# deterministic under threads, so it is left out here).
+"$bin/op2gs-synth" "$tmp/data/demo" --as lerf-mask-download --views 10 --width 96 --height 72 \
+  --supersample 1 --points 800 --test-every 4 > /dev/null 2>&1 || fail "op2gs-synth"
+queries=$(find "$tmp/data/demo/test_mask" -name '*.png' -printf '%f\n' | sed 's/\.png$//' | sort -u | paste -sd ';')
+run=(DATASET=lerf-mask DATA_ROOT="$tmp/data" WORK_ROOT="$tmp/work" SCENES=demo "QUERIES_demo=$queries"
+     ITERATIONS=150 STAGE_ONE=100 TRAIN_OPTS="--densify-until 0" CLIP="$root/tests/fixtures/tiny_clip")
 outputs() {
-  (cd "$tmp/work" && find . -type f ! -path '*/logs/*' ! -path '*/stamps/*' ! -name '.op2gs*' \
+  (cd "$tmp/work" && find . -type f ! -path '*/logs/*' ! -name '*.log' ! -path '*/stamps/*' ! -name '.op2gs*' \
      ! -name train_log.jsonl ! -name timing.json ! -path '*/vote/summary.json' -print0 |
      sort -z | xargs -0 sha1sum)
 }
+now_ms() { local t=${EPOCHREALTIME/./}; echo $((t / 1000)); }
+# Each line of the input with the moment it arrived (ms) in front.
+stamp_lines() { while IFS= read -r line; do echo "$(now_ms) $line"; done; }
 
-start=$(date +%s%N)
-mk "${run[@]}" > "$tmp/reference.log" 2>&1 || { tail -5 "$tmp/reference.log"; fail "the reference run failed"; }
-took_ms=$(( ($(date +%s%N) - start) / 1000000 ))
+mk "${run[@]}" 2>&1 | stamp_lines > "$tmp/reference.log" ||
+  { tail -5 "$tmp/reference.log"; fail "the reference run failed"; }
 reference=$(outputs)
 [ "$(wc -l <<< "$reference")" -gt 20 ] || fail "the reference run left too few outputs"
 
-RANDOM=$seed
-for ((k = 1; k <= kills; k++)); do
-  rm -rf "$tmp/work"
-  at_ms=$(( RANDOM % took_ms ))
+# The stages in the order they ran ("scene: stage"), and how long each took.
+mapfile -t stages < <(sed -n 's/^[0-9]* == \(.*: [a-z-]*\)$/\1/p' "$tmp/reference.log")
+[ "${#stages[@]}" -ge 8 ] || { cat "$tmp/reference.log"; fail "the reference run ran only ${#stages[@]} stages"; }
+duration_ms() {
+  local start end
+  start=$(grep -m1 " == $1\$" "$tmp/reference.log" | cut -d' ' -f1)
+  end=$(grep -m1 " == $1 done in" "$tmp/reference.log" | cut -d' ' -f1)
+  echo $((end - start > 1 ? end - start : 1))
+}
+
+# Starts the run, waits until STAGE has begun, kills everything AT_MS later.
+run_and_kill() {
+  local stage="$1" at_ms="$2" leader waited=0
   setsid make --no-print-directory -f "$root/pipeline/Makefile" BIN="$bin" "${run[@]}" \
     > "$tmp/killed.log" 2>&1 &
   leader=$!
+  until grep -q "^== $stage\$" "$tmp/killed.log"; do
+    sleep 0.01
+    ((++waited < 6000)) || { kill -9 -- "-$leader"; fail "$stage never started"; }
+  done
   sleep "$(printf '%d.%03d' $((at_ms / 1000)) $((at_ms % 1000)))"
   kill -9 -- "-$leader" 2> /dev/null || true
   wait "$leader" 2> /dev/null || true
-  # No stage line yet when the kill came before the first stage started.
-  stage=$({ grep -o '== demo: [a-z]*$' "$tmp/killed.log" || true; } | tail -1 | sed 's/== demo: //')
-  mk "${run[@]}" > "$tmp/after.log" 2>&1 || { tail -5 "$tmp/after.log"; fail "the run after kill $k failed"; }
-  if [ "$(outputs)" != "$reference" ]; then
-    diff <(echo "$reference") <(outputs) | head -5
-    fail "kill $k at ${at_ms} ms (in stage ${stage:-none}): outputs differ from the uninterrupted run"
-  fi
-  echo "kill $k at ${at_ms} ms (in stage ${stage:-none yet}): outputs identical after the rerun"
+}
+
+RANDOM=$seed
+for stage in "${stages[@]}"; do
+  took=$(duration_ms "$stage")
+  for ((k = 1; k <= kills; k++)); do
+    rm -rf "$tmp/work"
+    at_ms=$((RANDOM % took))
+    run_and_kill "$stage" "$at_ms"
+    mk "${run[@]}" > "$tmp/after.log" 2>&1 ||
+      { tail -5 "$tmp/after.log"; fail "the run after a kill in $stage failed"; }
+    if [ "$(outputs)" != "$reference" ]; then
+      diff <(echo "$reference") <(outputs) | head -5 || true
+      fail "killed ${at_ms} ms into $stage (of $took ms): outputs differ from the uninterrupted run"
+    fi
+    echo "killed ${at_ms} ms into $stage (of $took ms): outputs identical after the rerun"
+  done
 done
 echo "PASS"

@@ -92,5 +92,24 @@ TEST(PngIndexed, TruncatedFileIsAnErrorNamingIt) {
   }
 }
 
+// Found by fuzzing: a few hundred bytes whose text chunk claims 1.9 GB made
+// libpng allocate it before finding the file too short.
+TEST(PngIndexed, AChunkLongerThanTheFileIsRefusedBeforeAnyAllocation) {
+  TempDir dir;
+  write_palette_png(dir / "f.png", 8, 8, std::vector<uint8_t>(64, 1), 2, davis_like_palette());
+  std::string bytes = testing_util::read_file(dir / "f.png");
+  // After the signature and IHDR (8 + 25 bytes): a tEXt chunk claiming 2^30 bytes.
+  bytes.insert(33, std::string("\x40\x00\x00\x00tEXtComment\0x", 17));
+  testing_util::write_file(dir / "lying.png", bytes);
+  try {
+    read_id_map(dir / "lying.png");
+    FAIL() << "a PNG with a chunk longer than the file was read";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("lying.png"), std::string::npos) << what;
+    EXPECT_NE(what.find("\"tEXt\" claims 1073741824 bytes"), std::string::npos) << what;
+  }
+}
+
 }  // namespace
 }  // namespace splat
