@@ -26,7 +26,7 @@ for harness in "$build"/tests/fuzz/fuzz_*; do
   corpus="$out/corpus/${name#fuzz_}"
   mkdir -p "$corpus" "$out/crashes/$name"
   cp "$root/tests/fuzz/corpus/${name#fuzz_}"/* "$corpus/" 2> /dev/null || true
-  "$harness" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -print_final_stats=1 \
+  "$harness" -max_total_time="$seconds" -timeout=60 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$out/crashes/$name/" "$corpus" > "$out/$name.log" 2>&1 || true
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$out/$name.log" | grep -o '[0-9]*$' || echo 0)
   found=$(find "$out/crashes/$name" -type f | wc -l)

@@ -32,8 +32,9 @@ packages=(
   libcli11-dev libfmt-dev libspdlog-dev libnanoflann-dev libsqlite3-dev libicu-dev colmap clang-format
 )
 
-# The tests also drive headless Chromium and build the fuzz harnesses with clang.
-if [ "$with_tests" -eq 1 ]; then packages+=(chromium clang); fi
+# The tests also drive headless Chromium, build the fuzz harnesses with clang
+# and bring up a one-node Slurm cluster.
+if [ "$with_tests" -eq 1 ]; then packages+=(chromium clang slurm-wlm munge); fi
 
 missing=()
 for p in "${packages[@]}"; do

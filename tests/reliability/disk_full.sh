@@ -20,17 +20,9 @@ if ! mount -t tmpfs -o size=32m tmpfs "$disk" 2> /dev/null; then
 fi
 trap 'umount -l "$disk" 2> /dev/null; rm -rf "$tmp"' EXIT
 
-"$bin/op2gs-synth" "$tmp/data/demo" --as lerf-mask-download --views 10 --width 96 --height 72 \
-  --supersample 1 --points 800 --test-every 4 > /dev/null 2>&1 || fail "op2gs-synth"
-queries=$(find "$tmp/data/demo/test_mask" -name '*.png' -printf '%f\n' | sed 's/\.png$//' | sort -u | paste -sd ';')
-run=(DATASET=lerf-mask DATA_ROOT="$tmp/data" WORK_ROOT="$disk/work" SCENES=demo "QUERIES_demo=$queries"
-     ITERATIONS=150 STAGE_ONE=100 TRAIN_OPTS="--densify-until 0" CLIP="$root/tests/fixtures/tiny_clip")
+tiny_lerf_run "$disk/work"
 w="$disk/work/demo"
-outputs() {
-  (cd "$disk/work" && find . -type f ! -path '*/logs/*' ! -path '*/stamps/*' ! -name '.op2gs*' \
-     ! -name '*.log' ! -name train_log.jsonl ! -name timing.json ! -path '*/vote/summary.json' \
-     -print0 | sort -z | xargs -0 sha1sum)
-}
+outputs() { work_outputs "$disk/work"; }
 # Fills the disk but for $1 bytes.
 leave_free() {
   rm -f "$disk/filler"

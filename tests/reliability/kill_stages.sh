@@ -8,19 +8,8 @@
 # Usage: kill_stages.sh BIN_DIR [KILLS] [SEED]
 source "$(dirname "${BASH_SOURCE[0]}")/../pipeline/test_lib.sh" "$1"
 kills="${2:-2}" seed="${3:-1}"
-# A LERF-Mask scene as downloaded, so that every stage runs, queries and
-# evaluation included; its COLMAP model is imported (COLMAP's own SfM is not
-# deterministic under threads, so it is left out here).
-"$bin/op2gs-synth" "$tmp/data/demo" --as lerf-mask-download --views 10 --width 96 --height 72 \
-  --supersample 1 --points 800 --test-every 4 > /dev/null 2>&1 || fail "op2gs-synth"
-queries=$(find "$tmp/data/demo/test_mask" -name '*.png' -printf '%f\n' | sed 's/\.png$//' | sort -u | paste -sd ';')
-run=(DATASET=lerf-mask DATA_ROOT="$tmp/data" WORK_ROOT="$tmp/work" SCENES=demo "QUERIES_demo=$queries"
-     ITERATIONS=150 STAGE_ONE=100 TRAIN_OPTS="--densify-until 0" CLIP="$root/tests/fixtures/tiny_clip")
-outputs() {
-  (cd "$tmp/work" && find . -type f ! -path '*/logs/*' ! -name '*.log' ! -path '*/stamps/*' ! -name '.op2gs*' \
-     ! -name train_log.jsonl ! -name timing.json ! -path '*/vote/summary.json' -print0 |
-     sort -z | xargs -0 sha1sum)
-}
+tiny_lerf_run "$tmp/work"
+outputs() { work_outputs "$tmp/work"; }
 now_ms() { local t=${EPOCHREALTIME/./}; echo $((t / 1000)); }
 # Each line of the input with the moment it arrived (ms) in front.
 stamp_lines() { while IFS= read -r line; do echo "$(now_ms) $line"; done; }
