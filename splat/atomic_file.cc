@@ -58,6 +58,8 @@ namespace {
 
 constexpr const char* kStagingPrefix = ".staging-";
 
+bool process_is_alive(long pid);
+
 // Staging folders left by runs that were killed (their process is gone).
 void remove_abandoned_staging(const fs::path& target) {
   std::error_code ec;
@@ -65,9 +67,13 @@ void remove_abandoned_staging(const fs::path& target) {
     const std::string name = entry.path().filename().string();
     if (name.rfind(kStagingPrefix, 0) != 0) continue;
     const long pid = std::strtol(name.c_str() + std::strlen(kStagingPrefix), nullptr, 10);
-    if (pid > 0 && (::kill(pid_t(pid), 0) == 0 || errno == EPERM) && pid != ::getpid()) continue;
+    if (process_is_alive(pid) && pid != ::getpid()) continue;
     fs::remove_all(entry.path(), ec);
   }
+}
+
+bool process_is_alive(long pid) {
+  return pid > 0 && (::kill(pid_t(pid), 0) == 0 || errno == EPERM);
 }
 
 // Exchanges two existing paths in one step (Linux renameat2).
@@ -76,6 +82,19 @@ bool exchange(const fs::path& a, const fs::path& b) {
 }
 
 }  // namespace
+
+void remove_abandoned_temporaries(const fs::path& dir) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    // ".<stem>.tmp-<pid>-<n><ext>"
+    const std::string name = entry.path().filename().string();
+    const size_t at = name.find(".tmp-");
+    if (name.empty() || name[0] != '.' || at == std::string::npos || !entry.is_regular_file())
+      continue;
+    if (!process_is_alive(std::strtol(name.c_str() + at + 5, nullptr, 10)))
+      fs::remove(entry.path(), ec);
+  }
+}
 
 StagedFolder::StagedFolder(fs::path target, Target kind)
     : target_(std::move(target)),

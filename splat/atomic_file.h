@@ -21,6 +21,10 @@ std::filesystem::path temporary_path_for(const std::filesystem::path& target);
 void write_atomically(const std::filesystem::path& target,
                       const std::function<void(const std::filesystem::path& tmp)>& write);
 
+// Removes the temporary files (temporary_path_for) that runs killed while
+// writing left in `dir` (not its subfolders); those of live processes stay.
+void remove_abandoned_temporaries(const std::filesystem::path& dir);
+
 // Writes a whole text file atomically.
 void write_text_atomically(const std::filesystem::path& target, const std::string& text);
 

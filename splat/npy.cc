@@ -1,5 +1,6 @@
 #include "splat/npy.h"
 
+#include <charconv>
 #include <cstring>
 #include <regex>
 #include <stdexcept>
@@ -58,9 +59,17 @@ std::vector<double> read_npy(const std::filesystem::path& file, std::vector<size
   size_t count = 1;
   const std::string list = m[1].str();
   const std::regex number("\\d+");
+  const size_t available = bytes.size() - start;
   for (std::sregex_iterator it(list.begin(), list.end(), number), end; it != end; ++it) {
-    dims.push_back(std::stoul(it->str()));
-    count *= dims.back();
+    const std::string digits = it->str();
+    size_t d = 0;
+    if (std::from_chars(digits.data(), digits.data() + digits.size(), d).ec != std::errc())
+      throw InputError(file, "a dimension of the .npy shape is out of range: " + digits);
+    // count * d values cannot fit when count exceeds the bytes left over d.
+    if (d != 0 && count > available / d)
+      throw InputError(file, "the .npy shape holds more values than the file has bytes");
+    dims.push_back(d);
+    count *= d;
   }
   const size_t width = f8 ? 8 : 4;
   if (bytes.size() - start < count * width) throw InputError(file, "truncated .npy data");

@@ -358,6 +358,7 @@ GaussianModel read_gaussian_ply(const fs::path& file) {
 
 PointCloud read_point_ply(const fs::path& file) {
   PointCloud cloud;
+  size_t bad = 0;  // points with a NaN or infinite coordinate or colour
   read_vertices(file, [&](const PlyElement& e) -> RowSink {
     std::map<std::string, int> index;
     for (size_t i = 0; i < e.properties.size(); ++i) index[e.properties[i].name] = int(i);
@@ -373,12 +374,24 @@ PointCloud read_point_ply(const fs::path& file) {
                         find({"blue", "diffuse_blue", "b"})};
     cloud.xyz.resize(e.count);
     cloud.rgb.assign(e.count, {128, 128, 128});  // grey where the file has no colour
-    return [&cloud, xyz, rgb](const std::vector<double>& row, size_t i) {
+    return [&cloud, &bad, xyz, rgb](const std::vector<double>& row, size_t i) {
       cloud.xyz[i] = {row[xyz[0]], row[xyz[1]], row[xyz[2]]};
-      for (int k = 0; k < 3; ++k)
-        if (rgb[k] >= 0) cloud.rgb[i][k] = uint8_t(std::clamp(row[rgb[k]], 0.0, 255.0));
+      bool finite = cloud.xyz[i].allFinite();
+      for (int k = 0; k < 3; ++k) {
+        if (rgb[k] < 0) continue;
+        if (!std::isfinite(row[rgb[k]])) {
+          finite = false;
+          continue;
+        }
+        cloud.rgb[i][k] = uint8_t(std::clamp(row[rgb[k]], 0.0, 255.0));
+      }
+      bad += !finite;
     };
   });
+  if (bad > 0)
+    throw InputError(file,
+                     fmt::format("{} of {} points have NaN or infinite coordinates or colours", bad,
+                                 cloud.xyz.size()));
   return cloud;
 }
 

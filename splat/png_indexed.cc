@@ -4,6 +4,7 @@
 #include <png.h>
 
 #include <algorithm>
+#include <cctype>
 #include <csetjmp>
 #include <cstdint>
 #include <cstdio>
@@ -53,6 +54,14 @@ uint32_t big_endian(const png_byte* b) {
   return uint32_t(b[0]) << 24 | uint32_t(b[1]) << 16 | uint32_t(b[2]) << 8 | b[3];
 }
 
+// A chunk's four-letter type, printable whatever the file holds.
+std::string chunk_name(const png_byte* type) {
+  std::string name(reinterpret_cast<const char*>(type), 4);
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '?';
+  return name;
+}
+
 // Walks the chunk list after the signature: a chunk that claims more bytes
 // than the file has left would have libpng allocate that much (gigabytes,
 // from a few hundred bytes of file) before it finds the file cut short.
@@ -66,9 +75,9 @@ void check_chunk_lengths(FILE* file, const fs::path& path) {
     const uint64_t length = big_endian(header);
     const long at = std::ftell(file);
     if (uint64_t(end - at) < length + 4)
-      throw InputError(path, fmt::format("PNG chunk {:?} claims {} bytes, the file has {} left",
-                                         std::string(reinterpret_cast<char*>(header + 4), 4),
-                                         length, std::max(0L, end - at - 4)));
+      throw InputError(path,
+                       fmt::format("PNG chunk '{}' claims {} bytes, the file has {} left",
+                                   chunk_name(header + 4), length, std::max(0L, end - at - 4)));
     if (std::memcmp(header + 4, "IEND", 4) == 0) break;
     std::fseek(file, long(length) + 4, SEEK_CUR);
   }

@@ -210,6 +210,7 @@ class SfmController {
       : user_(scene_dir), out_(out), o_(options), steps_(out) {
     o_.Check();
     fs::create_directories(out_);
+    remove_abandoned_temporaries(out_);
     o_.colmap.log_file = out_ / "colmap.log";
     images_ = user_ / o_.images_dir;
     names_ = image_names(images_);

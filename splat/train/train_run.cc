@@ -114,6 +114,7 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
                  trainer.split().rule);
   }
   fs::create_directories(work);
+  remove_abandoned_temporaries(work);
   TrainingLog log(out.log(), trainer.iteration());
   ProgressBar bar(trainer.iteration(), o.stop_at);
   auto is_in = [](const std::vector<int>& v, int it) {

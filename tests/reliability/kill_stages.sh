@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Every stage of a dataset run killed outright (kill -9 of make and everything
-# it started), KILLS times per stage at seeded random moments inside it; the
+# it started), KILLS times per stage at seeded random moments inside it, on
+# an empty work folder and on a finished one whose stage is to do again; the
 # next make then finishes the run, and its outputs are byte-identical to an
 # uninterrupted run's. Left out of the comparison: what records wall-clock
 # time (the training logs' elapsed_s, render/timing.json, vote/summary.json)
@@ -44,11 +45,30 @@ run_and_kill() {
   wait "$leader" 2> /dev/null || true
 }
 
+# The finished run with stage $1 and every stage after it to do again, as
+# after a change of its options: their previous outputs are in place.
+stale_from() {
+  rm -rf "$tmp/work"
+  cp -a "$tmp/finished" "$tmp/work"
+  local s later=0
+  for s in "${stages[@]}"; do
+    [ "$s" = "$1" ] && later=1
+    ((later)) || continue
+    case "$s" in
+      *": dataset-report") rm "$tmp/work/report/report.html" ;;
+      *) rm "$tmp/work/${s%%:*}/stamps/${s#*: }.done" ;;
+    esac
+  done
+}
+cp -a "$tmp/work" "$tmp/finished"
+
+# Odd kills start from an empty work folder, even ones from the finished run
+# with the stage to do again (so it replaces outputs it made before).
 RANDOM=$seed
 for stage in "${stages[@]}"; do
   took=$(duration_ms "$stage")
   for ((k = 1; k <= kills; k++)); do
-    rm -rf "$tmp/work"
+    if ((k % 2)); then rm -rf "$tmp/work"; else stale_from "$stage"; fi
     at_ms=$((RANDOM % took))
     run_and_kill "$stage" "$at_ms"
     mk "${run[@]}" > "$tmp/after.log" 2>&1 ||

@@ -98,6 +98,18 @@ TEST_F(AtomicFileTest, AKilledRunsStagingFolderIsRemovedByTheNext) {
   EXPECT_TRUE(fs::is_directory(staged.path()));
 }
 
+TEST_F(AtomicFileTest, TemporariesOfKilledRunsAreRemovedOthersStay) {
+  const fs::path dead = dir_ / ".training_curve.tmp-99999999-7.png";
+  const fs::path alive = dir_ / (".metrics.tmp-" + std::to_string(::getpid()) + "-0.json");
+  for (const auto& f : {dead, alive, dir_ / "metrics.json", dir_ / ".hidden.txt"})
+    write_text_atomically(f, "x");
+  remove_abandoned_temporaries(dir_);
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_TRUE(fs::exists(alive));
+  EXPECT_TRUE(fs::exists(dir_ / "metrics.json"));
+  EXPECT_TRUE(fs::exists(dir_ / ".hidden.txt"));
+}
+
 TEST_F(AtomicFileTest, AWriteErrorSaysWhy) {
   const fs::path file = dir_ / "x.ply";
   errno = ENOSPC;

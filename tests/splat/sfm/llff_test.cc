@@ -51,5 +51,25 @@ TEST(Npy, ReadsWhatItWrites) {
   EXPECT_THROW(read_npy(dir / "b.npy", &shape), InputError);
 }
 
+// Found by fuzzing: a dimension beyond 64 bits made std::stoul throw its own
+// exception, and dimensions whose product overflows passed the size check.
+TEST(Npy, ShapesLargerThanTheFileAreRefused) {
+  testing_util::TempDir dir;
+  auto npy = [](const std::string& shape) {
+    std::string header = "{'descr': '<f8', 'fortran_order': False, 'shape': (" + shape + "), }";
+    header.resize(118, ' ');
+    header += '\n';
+    return std::string("\x93NUMPY\x01\x00", 8) + char(header.size()) + '\0' + header +
+           std::string(16, '\0');
+  };
+  std::vector<size_t> shape;
+  testing_util::write_file(dir / "ok.npy", npy("2,"));
+  EXPECT_EQ(read_npy(dir / "ok.npy", &shape).size(), 2u);
+  for (const std::string s : {"99999999999999999999999,", "4294967296, 4294967296, 2", "3,"}) {
+    testing_util::write_file(dir / "bad.npy", npy(s));
+    EXPECT_THROW(read_npy(dir / "bad.npy", &shape), InputError) << s;
+  }
+}
+
 }  // namespace
 }  // namespace splat

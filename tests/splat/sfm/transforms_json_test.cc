@@ -226,6 +226,17 @@ TEST(PointPly, ReadsAsciiAndBinaryClouds) {
                            "ply\nformat ascii 1.0\nelement vertex 1\nproperty float "
                            "x\nend_header\n1\n");
   EXPECT_THROW(read_point_ply(dir / "c.ply"), InputError);
+  // Found by fuzzing: a NaN colour was cast to a byte.
+  testing_util::write_file(dir / "d.ply",
+                           "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty "
+                           "float y\nproperty float z\nproperty float red\nend_header\n1 2 3 "
+                           "nan\n1 2 3 4\n");
+  try {
+    read_point_ply(dir / "d.ply");
+    FAIL() << "a NaN colour was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("1 of 2 points have NaN"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
