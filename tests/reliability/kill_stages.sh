@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Every stage of a dataset run killed outright (kill -9 of make and everything
-# it started), KILLS times per stage at seeded random moments inside it, on
-# an empty work folder and on a finished one whose stage is to do again; the
+# it started), KILLS times per stage at seeded random moments inside it,
+# with the stage run for the first time and run again; the
 # next make then finishes the run, and its outputs are byte-identical to an
 # uninterrupted run's. Left out of the comparison: what records wall-clock
 # time (the training logs' elapsed_s, render/timing.json, vote/summary.json)
@@ -45,30 +45,41 @@ run_and_kill() {
   wait "$leader" 2> /dev/null || true
 }
 
-# The finished run with stage $1 and every stage after it to do again, as
-# after a change of its options: their previous outputs are in place.
-stale_from() {
+# The finished run with stage $1 and every stage after it to do again:
+# their stamps removed, and with $2 = fresh their outputs too, as if they
+# had never run (else as after a change of their options).
+to_do_from() {
   rm -rf "$tmp/work"
   cp -a "$tmp/finished" "$tmp/work"
-  local s later=0
+  local s later=0 scene stage
   for s in "${stages[@]}"; do
     [ "$s" = "$1" ] && later=1
     ((later)) || continue
-    case "$s" in
-      *": dataset-report") rm "$tmp/work/report/report.html" ;;
-      *) rm "$tmp/work/${s%%:*}/stamps/${s#*: }.done" ;;
+    scene=${s%%:*} stage=${s#*: }
+    if [ "$stage" = dataset-report ]; then
+      rm "$tmp/work/report/report.html"
+      [ "$2" != fresh ] || rm -rf "$tmp/work/report"
+      continue
+    fi
+    rm "$tmp/work/$scene/stamps/$stage.done"
+    [ "$2" = fresh ] || continue
+    case "$stage" in
+      train) (cd "$tmp/work/$scene" && rm -rf checkpoints point_cloud test train_log.jsonl \
+                training_curve.png metrics.json) ;;
+      *) rm -rf "${tmp:?}/work/$scene/$stage" ;;
     esac
   done
 }
 cp -a "$tmp/work" "$tmp/finished"
 
-# Odd kills start from an empty work folder, even ones from the finished run
-# with the stage to do again (so it replaces outputs it made before).
+# Odd kills find the stage never run before, even ones find its outputs of
+# an earlier run (so it replaces them). Either way the stages before it are
+# done, so each kill costs only the run from that stage on.
 RANDOM=$seed
 for stage in "${stages[@]}"; do
   took=$(duration_ms "$stage")
   for ((k = 1; k <= kills; k++)); do
-    if ((k % 2)); then rm -rf "$tmp/work"; else stale_from "$stage"; fi
+    if ((k % 2)); then to_do_from "$stage" fresh; else to_do_from "$stage" again; fi
     at_ms=$((RANDOM % took))
     run_and_kill "$stage" "$at_ms"
     mk "${run[@]}" > "$tmp/after.log" 2>&1 ||
