@@ -5,7 +5,9 @@
 #include <tbb/parallel_pipeline.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <exception>
 #include <fstream>
 #include <map>
 #include <mutex>
@@ -40,6 +42,7 @@ struct PreparedView {
   IdMap ids;
   DepthMap depth;
   std::vector<int32_t> ids_present;
+  std::exception_ptr error;  // why the view could not be prepared
 };
 
 // Names of the IDs from <id maps>/objects.json: [{"id": 1, "name": ...}] or
@@ -202,42 +205,64 @@ struct VotingRun {
   CpuRenderer renderer;
 };
 
+// A training view's ID map, its camera at the map's size, and the depth
+// that tells which Gaussians it sees.
+void prepare_view(const VotingRun& run, size_t v, RenderStatePool& states, PreparedView& p) {
+  const View& view = run.scene->views()[v];
+  const fs::path file = find_id_map(run.folder, view.name);
+  p.ids = read_id_map(file);
+  check_id_map_aspect(file, p.ids, view.camera.width, view.camera.height);
+  p.camera = view.camera.resized(p.ids.width, p.ids.height);
+  if (run.cull()) {
+    std::unique_ptr<RenderState> state = states.take();
+    p.depth = render_depth_map(run.renderer, run.stage_one.model, p.camera, run.o.vote, &state);
+    states.give(std::move(state));
+  }
+  p.ids_present = ids_in_map(p.ids);
+}
+
 // Reading a map and rendering its depth run for several views at once;
-// votes are added one view at a time, in order.
+// votes are added one view at a time, in order. No exception crosses the
+// pipeline (TBB would leak the views in flight): a view that fails carries
+// its error to the last step, which stops there; the first failing view's
+// error, in view order, is rethrown.
 void collect_votes(VotingRun& run, LabelVotes& votes, std::map<int, size_t>& views_per_id) {
   const GaussianModel& model = run.stage_one.model;
   const VoteOptions& vote = run.o.vote;
   RenderStatePool states;
   size_t next = 0;
+  std::atomic<bool> failed{false};
+  std::exception_ptr error;
   tbb::parallel_pipeline(
       4, tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
                                         [&](tbb::flow_control& fc) -> size_t {
-                                          if (next == run.used.size()) fc.stop();
+                                          if (next == run.used.size() || failed) fc.stop();
                                           return next < run.used.size() ? run.used[next++] : 0;
                                         }) &
              tbb::make_filter<size_t, std::shared_ptr<PreparedView>>(
                  tbb::filter_mode::parallel,
                  [&](size_t v) {
                    auto p = std::make_shared<PreparedView>();
-                   const View& view = run.scene->views()[v];
-                   const fs::path file = find_id_map(run.folder, view.name);
                    p->view = v;
-                   p->ids = read_id_map(file);
-                   check_id_map_aspect(file, p->ids, view.camera.width, view.camera.height);
-                   p->camera = view.camera.resized(p->ids.width, p->ids.height);
-                   if (run.cull()) {
-                     std::unique_ptr<RenderState> state = states.take();
-                     p->depth = render_depth_map(run.renderer, model, p->camera, vote, &state);
-                     states.give(std::move(state));
+                   try {
+                     prepare_view(run, v, states, *p);
+                   } catch (...) {
+                     p->error = std::current_exception();
+                     failed = true;
                    }
-                   p->ids_present = ids_in_map(p->ids);
                    return p;
                  }) &
              tbb::make_filter<std::shared_ptr<PreparedView>, void>(
                  tbb::filter_mode::serial_in_order, [&](const std::shared_ptr<PreparedView>& p) {
+                   if (error) return;
+                   if (p->error) {
+                     error = p->error;
+                     return;
+                   }
                    votes.add_view(model, p->camera, p->ids, run.cull() ? &p->depth : nullptr, vote);
                    for (int32_t id : p->ids_present) ++views_per_id[id];
                  }));
+  if (error) std::rethrow_exception(error);
 }
 
 // Previews over a few training views, evenly spaced.

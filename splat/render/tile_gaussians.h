@@ -71,7 +71,9 @@ struct TileGaussians {
   void copy_records(const RasterState& s, uint32_t slot_begin, uint32_t slot_end,
                     OnRecord&& on_record) {
     const size_t n = slot_end - slot_begin;
-    const uint32_t* gaussian = &s.bins.slot_gaussian[slot_begin];
+    // data() + offset, not &v[offset]: the list is empty when no Gaussian is
+    // in view, and indexing an empty vector is undefined (UBSan).
+    const uint32_t* gaussian = s.bins.slot_gaussian.data() + slot_begin;
     records.resize(n);
     constexpr size_t kAhead = 16;
     for (size_t k = 0; k < std::min(n, kAhead); ++k) __builtin_prefetch(&s.records[gaussian[k]]);
