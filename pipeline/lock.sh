@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # One make at a time per work folder: records the calling make's process ID
-# in WORK/.op2gs.make unless another live make holds it, in which case it
-# prints why (pipeline/Makefile stops with that message). A make that ended,
+# and start time in WORK/.op2gs.make unless another live make holds it, in
+# which case it prints why (pipeline/Makefile stops with that message). A make that ended,
 # however it ended, holds nothing: its process is gone.
 #
 # Usage: lock.sh WORK_ROOT MAKE_PID
@@ -10,10 +10,14 @@ work="$1" pid="$2"
 mkdir -p "$work"
 exec 9> "$work/.op2gs.make.guard"
 flock 9
-holder=$(cat "$work/.op2gs.make" 2>/dev/null || true)
-if [ -n "$holder" ] && [ "$holder" != "$pid" ] && kill -0 "$holder" 2>/dev/null &&
-   grep -qa make "/proc/$holder/cmdline" 2>/dev/null; then
+# A process is known by its ID and its start time (field 22 of
+# /proc/PID/stat), as IDs are reused: a dead make's ID may now be another's.
+started() { awk '{print $22}' "/proc/$1/stat" 2> /dev/null; }
+read -r holder holder_start < "$work/.op2gs.make" 2> /dev/null || true
+if [ -n "${holder:-}" ] && [ "$holder" != "$pid" ] && [ -n "$(started "$holder")" ] &&
+   [ "$(started "$holder")" = "${holder_start:-}" ] &&
+   grep -qa make "/proc/$holder/cmdline" 2> /dev/null; then
   echo "$work: another make (process $holder) is running in this work folder; wait for it to finish"
   exit 0
 fi
-echo "$pid" > "$work/.op2gs.make"
+echo "$pid $(started "$pid")" > "$work/.op2gs.make"

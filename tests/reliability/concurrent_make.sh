@@ -27,7 +27,7 @@ mk "${run[@]}" -q vote || fail "after both, make -q says something is stale"
 mk "${run[@]}" LEARN_OPTS="--lambda-o 0.2" learn > "$tmp/killed.log" 2>&1 &
 killed=$!
 for _ in $(seq 50); do [ -s "$tmp/run/demo/logs/learn.log" ] && break; sleep 0.1; done
-holder=$(cat "$tmp/run/.op2gs.make")
+read -r holder _ < "$tmp/run/.op2gs.make"  # its process ID and start time
 kill -9 "$holder" || fail "no make process $holder to kill"
 pkill -9 -f "op2gs-learn $tmp/run" || true
 wait "$killed" 2>/dev/null || true

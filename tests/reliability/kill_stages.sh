@@ -37,6 +37,7 @@ run_and_kill() {
     > "$tmp/killed.log" 2>&1 &
   leader=$!
   until grep -q "^== $stage\$" "$tmp/killed.log"; do
+    kill -0 "$leader" 2> /dev/null || { tail -5 "$tmp/killed.log"; fail "make ended before $stage began"; }
     sleep 0.01
     ((++waited < 6000)) || { kill -9 -- "-$leader"; fail "$stage never started"; }
   done
