@@ -2,7 +2,6 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
-#include <signal.h>
 #include <stdio.h>
 #include <unistd.h>
 
@@ -19,10 +18,45 @@
 namespace splat {
 namespace fs = std::filesystem;
 
+namespace {
+
+// When process `pid` started (clock ticks since boot, field 22 of
+// /proc/<pid>/stat), or "" when it does not exist.
+std::string start_time_of(long pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (!std::getline(stat, line)) return "";
+  // The command name (field 2) may hold spaces; fields after it follow ')'.
+  std::istringstream rest(line.substr(line.rfind(')') + 1));
+  std::string field;
+  for (int k = 3; k <= 22 && rest >> field; ++k) {
+  }
+  return field;
+}
+
+// "<pid>-<start time>": names this process in temporary names. A process ID
+// alone does not do: a dead run's ID may be reused by a live process.
+const std::string& this_process_tag() {
+  static const std::string tag = fmt::format("{}-{}", ::getpid(), start_time_of(::getpid()));
+  return tag;
+}
+
+// Whether the process a tag ("<pid>-<start time>...") names still runs.
+bool tag_is_alive(const char* tag) {
+  char* end = nullptr;
+  const long pid = std::strtol(tag, &end, 10);
+  if (pid <= 0 || *end != '-') return false;
+  const unsigned long long start = std::strtoull(end + 1, nullptr, 10);
+  const std::string now = start_time_of(pid);
+  return !now.empty() && std::strtoull(now.c_str(), nullptr, 10) == start;
+}
+
+}  // namespace
+
 fs::path temporary_path_for(const fs::path& target) {
   static std::atomic<unsigned> counter{0};
-  const std::string name = fmt::format(".{}.tmp-{}-{}{}", target.stem().string(), ::getpid(),
-                                       counter++, target.extension().string());
+  const std::string name = fmt::format(".{}.tmp-{}-{}{}", target.stem().string(),
+                                       this_process_tag(), counter++, target.extension().string());
   return target.parent_path() / name;
 }
 
@@ -58,22 +92,16 @@ namespace {
 
 constexpr const char* kStagingPrefix = ".staging-";
 
-bool process_is_alive(long pid);
-
 // Staging folders left by runs that were killed (their process is gone).
 void remove_abandoned_staging(const fs::path& target) {
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(target, ec)) {
     const std::string name = entry.path().filename().string();
     if (name.rfind(kStagingPrefix, 0) != 0) continue;
-    const long pid = std::strtol(name.c_str() + std::strlen(kStagingPrefix), nullptr, 10);
-    if (process_is_alive(pid) && pid != ::getpid()) continue;
+    const std::string tag = name.substr(std::strlen(kStagingPrefix));
+    if (tag != this_process_tag() && tag_is_alive(tag.c_str())) continue;
     fs::remove_all(entry.path(), ec);
   }
-}
-
-bool process_is_alive(long pid) {
-  return pid > 0 && (::kill(pid_t(pid), 0) == 0 || errno == EPERM);
 }
 
 // Exchanges two existing paths in one step (Linux renameat2).
@@ -86,19 +114,18 @@ bool exchange(const fs::path& a, const fs::path& b) {
 void remove_abandoned_temporaries(const fs::path& dir) {
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    // ".<stem>.tmp-<pid>-<n><ext>"
+    // ".<stem>.tmp-<pid>-<start time>-<n><ext>"
     const std::string name = entry.path().filename().string();
     const size_t at = name.find(".tmp-");
     if (name.empty() || name[0] != '.' || at == std::string::npos || !entry.is_regular_file())
       continue;
-    if (!process_is_alive(std::strtol(name.c_str() + at + 5, nullptr, 10)))
-      fs::remove(entry.path(), ec);
+    if (!tag_is_alive(name.c_str() + at + 5)) fs::remove(entry.path(), ec);
   }
 }
 
 StagedFolder::StagedFolder(fs::path target, Target kind)
     : target_(std::move(target)),
-      staging_(target_ / fmt::format("{}{}", kStagingPrefix, ::getpid())),
+      staging_(target_ / (kStagingPrefix + this_process_tag())),
       kind_(kind) {
   fs::create_directories(target_);
   remove_abandoned_staging(target_);

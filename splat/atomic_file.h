@@ -12,7 +12,8 @@
 namespace splat {
 
 // A temporary path beside `target` that keeps its extension (image writers
-// choose the format from it): "dir/.name.tmp-<pid>-<n>.ext".
+// choose the format from it): "dir/.name.tmp-<pid>-<start time>-<n>.ext",
+// the process's ID and start time telling a live writer from a dead one.
 std::filesystem::path temporary_path_for(const std::filesystem::path& target);
 
 // Calls write(tmp) and renames tmp onto target. On any exception the
@@ -49,7 +50,7 @@ class StagedFolder {
   StagedFolder(const StagedFolder&) = delete;
   StagedFolder& operator=(const StagedFolder&) = delete;
 
-  // Where the stage writes: "<target>/.staging-<pid>".
+  // Where the stage writes: "<target>/.staging-<pid>-<start time>".
   const std::filesystem::path& path() const { return staging_; }
   const std::filesystem::path& target() const { return target_; }
 

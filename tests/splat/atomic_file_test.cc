@@ -100,7 +100,7 @@ TEST_F(AtomicFileTest, AKilledRunsStagingFolderIsRemovedByTheNext) {
 
 TEST_F(AtomicFileTest, TemporariesOfKilledRunsAreRemovedOthersStay) {
   const fs::path dead = dir_ / ".training_curve.tmp-99999999-7.png";
-  const fs::path alive = dir_ / (".metrics.tmp-" + std::to_string(::getpid()) + "-0.json");
+  const fs::path alive = temporary_path_for(dir_ / "metrics.json");  // this process's
   for (const auto& f : {dead, alive, dir_ / "metrics.json", dir_ / ".hidden.txt"})
     write_text_atomically(f, "x");
   remove_abandoned_temporaries(dir_);
