@@ -12,7 +12,8 @@ exec 9> "$work/.op2gs.make.guard"
 flock 9
 # A process is known by its ID and its start time (field 22 of
 # /proc/PID/stat), as IDs are reused: a dead make's ID may now be another's.
-started() { awk '{print $22}' "/proc/$1/stat" 2> /dev/null; }
+# A zombie (state Z: killed, its parent gone, init not reaping it) has ended.
+started() { sed 's/.*) //' "/proc/$1/stat" 2> /dev/null | awk '$1 != "Z" && $1 != "X" {print $20}'; }
 read -r holder holder_start < "$work/.op2gs.make" 2> /dev/null || true
 if [ -n "${holder:-}" ] && [ "$holder" != "$pid" ] && [ -n "$(started "$holder")" ] &&
    [ "$(started "$holder")" = "${holder_start:-}" ] &&

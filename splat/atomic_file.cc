@@ -21,15 +21,19 @@ namespace fs = std::filesystem;
 namespace {
 
 // When process `pid` started (clock ticks since boot, field 22 of
-// /proc/<pid>/stat), or "" when it does not exist.
+// /proc/<pid>/stat), or "" when it does not exist or has ended. A killed
+// process whose parent died too stays a zombie (state Z) for as long as the
+// machine's init leaves it unreaped, as in many containers: it writes nothing
+// more and counts as ended.
 std::string start_time_of(long pid) {
   std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
   std::string line;
   if (!std::getline(stat, line)) return "";
   // The command name (field 2) may hold spaces; fields after it follow ')'.
   std::istringstream rest(line.substr(line.rfind(')') + 1));
-  std::string field;
-  for (int k = 3; k <= 22 && rest >> field; ++k) {
+  std::string state, field;
+  if (!(rest >> state) || state == "Z" || state == "X") return "";
+  for (int k = 4; k <= 22 && rest >> field; ++k) {
   }
   return field;
 }

@@ -44,6 +44,9 @@ run_and_kill() {
   sleep "$(printf '%d.%03d' $((at_ms / 1000)) $((at_ms % 1000)))"
   kill -9 -- "-$leader" 2> /dev/null || true
   wait "$leader" 2> /dev/null || true
+  # SIGKILL takes effect as each process next runs; wait until none of the
+  # run's processes is left but zombies (where init does not reap them).
+  while ps -o stat= -s "$leader" 2> /dev/null | grep -qv '^Z'; do sleep 0.01; done
 }
 
 # The finished run with stage $1 and every stage after it to do again:

@@ -1,10 +1,13 @@
 #include "splat/atomic_file.h"
 
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "splat/error.h"
@@ -96,6 +99,47 @@ TEST_F(AtomicFileTest, AKilledRunsStagingFolderIsRemovedByTheNext) {
   StagedFolder staged(out, StagedFolder::Target::kOwned);
   EXPECT_FALSE(fs::exists(abandoned));
   EXPECT_TRUE(fs::is_directory(staged.path()));
+}
+
+// "<pid>-<start time>" of a child process, as the writer names itself.
+std::string tag_of(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  std::getline(stat, line);
+  std::istringstream rest(line.substr(line.rfind(')') + 2));
+  std::string field;
+  for (int k = 3; k <= 22; ++k) rest >> field;
+  return std::to_string(pid) + "-" + field;
+}
+
+// A run killed with its make becomes a zombie where init does not reap
+// (many containers): it has ended, and its staging folder is abandoned.
+TEST_F(AtomicFileTest, AZombiesStagingFolderIsRemovedALiveWritersStays) {
+  const pid_t zombie = ::fork();
+  if (zombie == 0) ::_exit(0);
+  const pid_t live = ::fork();
+  if (live == 0) {
+    ::pause();
+    ::_exit(0);
+  }
+  for (int tries = 0; tries < 1000; ++tries) {  // until the first has exited
+    std::ifstream stat("/proc/" + std::to_string(zombie) + "/stat");
+    std::string line;
+    std::getline(stat, line);
+    if (line.find(") Z ") != std::string::npos) break;
+    ::usleep(1000);
+  }
+  const fs::path out = dir_ / "vote";
+  const fs::path of_zombie = out / (".staging-" + tag_of(zombie));
+  const fs::path of_live = out / (".staging-" + tag_of(live));
+  write_text_atomically(of_zombie / "point_cloud.ply", "partial");
+  write_text_atomically(of_live / "point_cloud.ply", "partial");
+  { StagedFolder staged(out, StagedFolder::Target::kOwned); }
+  EXPECT_FALSE(fs::exists(of_zombie));
+  EXPECT_TRUE(fs::exists(of_live));
+  ::kill(live, SIGKILL);
+  ::waitpid(zombie, nullptr, 0);
+  ::waitpid(live, nullptr, 0);
 }
 
 TEST_F(AtomicFileTest, TemporariesOfKilledRunsAreRemovedOthersStay) {
