@@ -27,7 +27,7 @@ done
 
 packages=(
   build-essential cmake ninja-build pkg-config git
-  libopencv-dev libopenimageio-dev openimageio-tools libpng-dev libtbb-dev libeigen3-dev
+  libopencv-dev libopenimageio-dev openimageio-tools libpng-dev zlib1g-dev libtbb-dev libeigen3-dev
   libceres-dev libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev
   libcli11-dev libfmt-dev libspdlog-dev libnanoflann-dev libsqlite3-dev libicu-dev colmap clang-format
 )
