@@ -2,14 +2,17 @@
 // scene or a dataset run, from the scenes' op2gs-eval metrics.
 
 #include "eval/report/report.h"
+#include "eval/report/viewer.h"
 #include "stages/common.h"
+
+namespace fs = std::filesystem;
 
 int main(int argc, char** argv) {
   CLI::App app{"Write the HTML and Markdown report of evaluated scenes."};
   eval::ReportOptions o;
   std::vector<std::string> scenes;
   std::string out, metrics = "eval/metrics.json";
-  bool no_figures = false;
+  bool no_figures = false, no_viewer = false;
   app.add_option("--scene", scenes,
                  "NAME SCENE_DIR WORK_DIR (repeatable): reads WORK_DIR/eval/metrics.json, "
                  "render/, query/query.json, the training curves")
@@ -25,8 +28,10 @@ int main(int argc, char** argv) {
   app.add_option("--thumbnail-width", o.thumbnail_width, "figure width in pixels")
       ->capture_default_str();
   app.add_flag("--no-figures", no_figures, "tables only");
+  app.add_flag("--no-viewer", no_viewer, "no 3D viewer (viewer/) of the scenes' models");
   return stages::run_stage(app, argc, argv, [&] {
     o.figures = !no_figures;
+    o.viewer = !no_viewer;
     for (size_t i = 0; i + 2 < scenes.size(); i += 3) {
       const splat::WorkLayout work{scenes[i + 2]};
       eval::SceneReportInput s;
@@ -36,6 +41,11 @@ int main(int argc, char** argv) {
       s.render = work.render();
       s.curves = {work.stage_one().curve(), work.stage_two().curve()};
       s.queries = work.query_results();
+      if (fs::exists(work.sfm_scene())) s.viewer_scene = work.sfm_scene();
+      if (fs::exists(work.stage_two().latest_checkpoint())) {
+        s.model = work.stage_two().latest_checkpoint();
+        s.model_ply = eval::latest_point_cloud(work.stage_two().point_clouds());
+      }
       o.scenes.push_back(s);
     }
     splat::StagedFolder outputs(out, splat::StagedFolder::Target::kShared);

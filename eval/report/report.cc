@@ -14,6 +14,7 @@
 #include "eval/metrics/predictions.h"
 #include "eval/report/html.h"
 #include "eval/report/paper_numbers.h"
+#include "eval/report/viewer.h"
 #include "splat/atomic_file.h"
 #include "splat/error.h"
 
@@ -450,6 +451,23 @@ figcaption { font-size: 12px; max-width: 320px; }
 .legend span { font-weight: bold; }
 </style>)";
 
+// Writes the scene's 3D viewer into out/viewer/ and links it.
+void add_viewer(const fs::path& out, const SceneReportInput& in, std::string& md,
+                std::string& html) {
+  const fs::path page =
+      write_viewer(out / "viewer", {in.name, in.viewer_scene.empty() ? in.scene : in.viewer_scene,
+                                    in.model, in.model_ply, in.metrics, in.queries});
+  const std::string serve = fmt::format(
+      "python3 -m http.server 8000 in the report's folder, then open http://localhost:8000/{}",
+      page.parent_path().generic_string() + "/");
+  md += fmt::format("3D viewer: [{}]({}) (browsers load it from a local server: {})\n\n",
+                    page.generic_string(), page.generic_string(), serve);
+  html += fmt::format(
+      "<p><a href=\"{}\">Open the 3D viewer</a> of the labelled model (browsers load it only "
+      "from a local web server: <code>{}</code>).</p>\n",
+      html_escape(page.generic_string()), html_escape(serve));
+}
+
 }  // namespace
 
 ReportFiles write_report(const fs::path& out, const ReportOptions& o) {
@@ -492,6 +510,7 @@ ReportFiles write_report(const fs::path& out, const ReportOptions& o) {
       md += q + "\n\n";
       html += "<p>" + q + "</p>\n";
     }
+    if (o.viewer && !s.input.model.empty()) add_viewer(out, s.input, md, html);
     const Table queries = query_table(s);
     md += to_markdown(queries);
     html += to_html(queries);

@@ -27,6 +27,9 @@ struct SceneReportInput {
   std::filesystem::path render;
   std::vector<std::filesystem::path> curves;
   std::filesystem::path queries;
+  // Optional: the 3D viewer's inputs (viewer.h): the scene folder the stages
+  // read (cameras), stage two's model, and the same model's PLY.
+  std::filesystem::path viewer_scene, model, model_ply;
 };
 
 struct ReportOptions {
@@ -35,6 +38,7 @@ struct ReportOptions {
   std::vector<SceneReportInput> scenes;
   int thumbnail_width = 320;  // figure panels, pixels
   bool figures = true;
+  bool viewer = true;  // a 3D viewer per scene with a model (viewer.h)
   void Check() const;  // throws std::invalid_argument
 };
 
@@ -42,7 +46,7 @@ struct ReportFiles {
   std::filesystem::path html, markdown;
 };
 
-// Writes report.html and report.md into out (atomically).
+// Writes report.html and report.md into out (atomically), and out/viewer/.
 ReportFiles write_report(const std::filesystem::path& out, const ReportOptions& options);
 
 }  // namespace eval
