@@ -4,8 +4,8 @@
 # installed and the build is incremental.
 #
 # Usage: scripts/setup.sh [--no-build] [--portable] [--build-dir DIR] [--tests]
-#   --tests  also installs what only the tests need (headless Chromium, which
-#            renders the HTML report in a test)
+#   --tests  also installs what only the tests need (headless Chromium and
+#            python3 for the report and viewer tests, clang for fuzzing, Slurm)
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -32,9 +32,10 @@ packages=(
   libcli11-dev libfmt-dev libspdlog-dev libnanoflann-dev libsqlite3-dev libicu-dev colmap clang-format
 )
 
-# The tests also drive headless Chromium, build the fuzz harnesses with clang
-# and bring up a one-node Slurm cluster.
-if [ "$with_tests" -eq 1 ]; then packages+=(chromium clang slurm-wlm munge); fi
+# The tests also drive headless Chromium (the report and its 3D viewer,
+# served by python3), build the fuzz harnesses with clang and bring up a
+# one-node Slurm cluster.
+if [ "$with_tests" -eq 1 ]; then packages+=(chromium python3 clang slurm-wlm munge); fi
 
 missing=()
 for p in "${packages[@]}"; do
