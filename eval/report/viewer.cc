@@ -69,6 +69,13 @@ json read_json_or_null(const fs::path& file) {
   }
 }
 
+// j[key] when it is an integer (get<int>() of a float is undefined beyond
+// int's range), else otherwise.
+int integer_or(const json& j, const char* key, int otherwise) {
+  const auto it = j.find(key);
+  return it != j.end() && it->is_number_integer() ? int(it->get<int64_t>()) : otherwise;
+}
+
 // Per label: the oracle queries it answers (with their IoU in each method)
 // and the queries query mode chose it for.
 json objects_json(const splat::GaussianModel& m, const json& metrics, const json& queries) {
@@ -87,7 +94,7 @@ json objects_json(const splat::GaussianModel& m, const json& metrics, const json
   if (metrics.is_object() && metrics.contains("results")) {
     for (const auto& [method, result] : metrics["results"].items()) {
       for (const json& q : result.value("queries", json::array())) {
-        const int label = q.value("object", -1);
+        const int label = integer_or(q, "object", -1);
         if (!objects.count(label)) continue;
         json& list = objects[label]["queries"];
         auto it = std::find_if(list.begin(), list.end(),
@@ -99,7 +106,7 @@ json objects_json(const splat::GaussianModel& m, const json& metrics, const json
   }
   if (queries.is_object() && queries.contains("queries")) {
     for (const json& q : queries["queries"]) {
-      const int label = q.value("object", -1);
+      const int label = integer_or(q, "object", -1);
       if (objects.count(label)) objects[label]["answers"].push_back(q.value("query", ""));
     }
   }

@@ -13,6 +13,7 @@
 #include "splat/checkpoint.h"
 #include "splat/clip/clip_model.h"
 #include "splat/error.h"
+#include "splat/query/json_integer.h"
 #include "splat/render/renderer.h"
 
 namespace splat {
@@ -214,15 +215,16 @@ ObjectEmbeddings read_object_embeddings(const fs::path& file) {
     e.clip_dir = j.at("clip").get<std::string>();
     for (const json& obj : j.at("objects")) {
       ObjectEmbedding o;
-      o.id = obj.at("id").get<int32_t>();
+      o.id = json_integer<int32_t>(obj.at("id"), file, "id");
       for (const json& v : obj.at("views"))
-        o.views.push_back({v.at("view").get<std::string>(), v.at("area").get<int64_t>(),
+        o.views.push_back({v.at("view").get<std::string>(),
+                           json_integer<int64_t>(v.at("area"), file, "area"),
                            v.at("crop").get<std::string>()});
       const auto values = obj.at("embedding").get<std::vector<float>>();
       o.embedding = Eigen::Map<const Eigen::VectorXf>(values.data(), Eigen::Index(values.size()));
       e.objects.push_back(std::move(o));
     }
-    e.unseen = j.value("unseen", std::vector<int32_t>{});
+    if (j.contains("unseen")) e.unseen = json_integers<int32_t>(j["unseen"], file, "unseen");
   } catch (const json::exception& ex) {
     throw InputError(file, std::string("not an op2gs-embed embeddings file: ") + ex.what());
   }

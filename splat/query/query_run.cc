@@ -10,6 +10,7 @@
 #include "splat/clip/tokenizer.h"
 #include "splat/error.h"
 #include "splat/query/embed_run.h"
+#include "splat/query/json_integer.h"
 
 namespace splat {
 namespace fs = std::filesystem;
@@ -112,12 +113,12 @@ QueryResults read_query_results(const fs::path& file) {
   QueryResults r;
   try {
     const json j = json::parse(read_text_file(file));
-    r.objects = j.at("objects").get<std::vector<int32_t>>();
+    r.objects = json_integers<int32_t>(j.at("objects"), file, "objects");
     if (j.contains("clip")) r.full_size_clip = j["clip"].at("full_size").get<bool>();
     for (const json& q : j.at("queries"))
-      r.answers.push_back({q.at("query").get<std::string>(), q.at("object").get<int32_t>(),
-                           q.at("similarity").get<float>(),
-                           q.at("similarities").get<std::vector<float>>()});
+      r.answers.push_back(
+          {q.at("query").get<std::string>(), json_integer<int32_t>(q.at("object"), file, "object"),
+           q.at("similarity").get<float>(), q.at("similarities").get<std::vector<float>>()});
   } catch (const json::exception& e) {
     throw InputError(file, std::string("not an op2gs-query result: ") + e.what());
   }
