@@ -4,11 +4,12 @@
 // sigma (the baseline's labels) or sigma* (dual opacity).
 //
 // URL parameters (all optional): mode=rgb|labels|dual|compare, camera=<image
-// name>, isolate=<label>, hide=<label,label>. For tests and scripts:
-// capture=<url> posts the first view as PNG once it has settled; log=<url>
-// posts the status lines;
-// extract=<label>&without=1&extract_to=<url> posts the object's PLY (or the
-// scene's without it) as the download buttons make it.
+// name>, isolate=<label>, hide=<label,label>. For tests and scripts, with the
+// canvas at the camera's size: shots=<shot,shot>&capture=<url> posts, for
+// each shot k, the view as PNG to <url><k>.png once it has settled; a shot is
+// a mode, or mode@label to isolate that object. log=<url> posts the status
+// lines; extract=<label>&without=1&extract_to=<url> posts the object's PLY
+// (or the scene's without it) as the download buttons make it.
 
 import { OrbitControls, PackedSplats, SparkRenderer, SplatMesh, THREE } from "../vendor.min.js";
 
@@ -93,7 +94,8 @@ class View {
     });
     this.renderer.setClearColor(0x000000, 1);
     this.scene = new THREE.Scene();
-    this.scene.add(new SparkRenderer({ renderer: this.renderer }));
+    this.spark = new SparkRenderer({ renderer: this.renderer });
+    this.scene.add(this.spark);
     this.mesh = null;
   }
 
@@ -237,6 +239,29 @@ function cutPly(bytes, label, without, minInstanceOpacity) {
     out.set(bytes.subarray(start + i * stride, start + (i + 1) * stride), newHeader.length + k * stride);
   });
   return out;
+}
+
+// Renders until the picture has settled: Spark gathers and sorts the splats
+// in the background, a new mesh taking a few frames to show. Settled: Spark
+// neither sorting nor due to, and two frames in a row the same picture (at
+// least 4 frames, at most 80).
+async function settle(views, camera) {
+  const gl = views[0].renderer.getContext();
+  const { width, height } = views[0].canvas;
+  let previous = null;
+  let same = 0;
+  for (let frame = 0; frame < 80 && same < 2; ++frame) {
+    for (const v of views) v.render(camera);
+    await new Promise((resolve) => setTimeout(resolve, 200));
+    const busy = views.some(
+      (v) => v.canvas.style.display !== "none" && (v.spark.sorting || v.spark.sortDirty || v.spark.dirty),
+    );
+    const pixels = new Uint8Array(4 * width * height);
+    gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, pixels);
+    const unchanged = previous && pixels.every((v, k) => v === previous[k]);
+    same = frame >= 3 && !busy && unchanged ? same + 1 : 0;
+    previous = pixels;
+  }
 }
 
 // ---- The page ----------------------------------------------------------------
@@ -462,15 +487,19 @@ async function main() {
     await fetch(params.get("extract_to"), { method: "POST", body: bytes });
   }
   if (capture) {
-    // Spark sorts the splats in a worker: render until the picture settles.
-    for (let frame = 0; frame < 12; ++frame) {
-      for (const v of views) v.render(camera);
-      await new Promise((resolve) => setTimeout(resolve, 250));
+    const shots = (params.get("shots") || mode).split(",");
+    for (const [k, shot] of shots.entries()) {
+      const [shotMode, isolate] = shot.split("@");
+      hidden.clear();
+      if (isolate !== undefined)
+        for (const o of about.objects) if (o.label !== Number(isolate)) hidden.add(o.label);
+      refreshObjects();
+      setMode(shotMode);
+      await settle(views, camera);
+      const png = await new Promise((resolve) => views[0].canvas.toBlob(resolve, "image/png"));
+      await fetch(`${capture}${k}.png`, { method: "POST", body: png });
     }
-    views[0].render(camera);
-    const png = await new Promise((resolve) => views[0].canvas.toBlob(resolve, "image/png"));
-    await fetch(capture, { method: "POST", body: png });
-    document.title = "captured";
+    setStatus("captured");
     return;
   }
   const loop = () => {

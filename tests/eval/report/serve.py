@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """Serves DIR over HTTP on 127.0.0.1 for the viewer test, and stores what the
-page POSTs (screenshots, PLYs, status lines) under POSTED/<path>. Prints the
+page POSTs (screenshots, PLYs, status lines) under POSTED/<path>; status
+lines (POST /log) are appended to POSTED/log after the time they came. Prints the
 port it listens on. Usage: serve.py DIR POSTED"""
 import http.server
 import os
 import sys
+import time
 
 root, posted = sys.argv[1], sys.argv[2]
 
@@ -18,7 +20,7 @@ class Handler(http.server.SimpleHTTPRequestHandler):
         name = os.path.join(posted, self.path.strip("/").replace("/", "_"))
         if self.path == "/log":
             with open(name, "ab") as f:
-                f.write(body + b"\n")
+                f.write(b"%.3f " % time.time() + body + b"\n")
         else:
             with open(name + ".part", "wb") as f:
                 f.write(body)
