@@ -11,3 +11,7 @@ awk '/^\|/ { print; shown = 1; next }
 echo
 echo "report: $2"
 echo "        $1"
+dir=$(dirname "$2")
+if [ -d "$dir/viewer" ]; then
+  echo "3D viewer: python3 -m http.server -d $dir 8000, then open http://localhost:8000/viewer/"
+fi

@@ -12,7 +12,7 @@
 #   op2gs-embed / op2gs-query   CLIP object embeddings and text queries (the
 #                 tiny test CLIP unless scripts/get_clip.sh fetched the real one)
 #   op2gs-eval    mIoU / mBIoU, oracle and query mode; PSNR / SSIM
-#   op2gs-report  HTML and Markdown report
+#   op2gs-report  HTML and Markdown report, 3D viewer of the labelled model
 #
 # Usage: scripts/demo.sh [WORK_DIR] [make options, e.g. -j2 or ITERATIONS=...]
 # (default WORK_DIR: demo/ in the repository). Rerunning does only what is stale.
