@@ -29,7 +29,7 @@ struct SceneReportInput {
   std::filesystem::path queries;
   // Optional: the 3D viewer's inputs (viewer.h): the scene folder the stages
   // read (cameras), stage two's model, and the same model's PLY.
-  std::filesystem::path viewer_scene, model, model_ply;
+  std::filesystem::path viewer_scene = {}, model = {}, model_ply = {};
 };
 
 struct ReportOptions {
