@@ -334,7 +334,9 @@ async function main() {
     option.textContent = `${cam.name}${cam.test ? " (test)" : ""}`;
     cameraSelect.appendChild(option);
   }
-  let cam = cameras.find((c) => c.name === params.get("camera")) || cameras[0];
+  // The camera asked for, else the first training view.
+  let cam =
+    cameras.find((c) => c.name === params.get("camera")) || cameras.find((c) => !c.test) || cameras[0];
   cameraSelect.value = cam.name;
   const extent = splats.n ? new THREE.Box3().setFromArray(splats.centers).getSize(new THREE.Vector3()).length() : 1;
   const controls = new OrbitControls(camera, container);

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The report's 3D viewer, tested as a person would look at it: a tiny scene
 # through the pipeline, its report's viewer served over HTTP and opened in
-# headless Chromium (software WebGL), screenshots from a test camera compared
+# headless Chromium (software WebGL), screenshots from the training camera it
+# starts at compared
 # with op2gs-render's images of that camera, isolating one object, and the
 # PLY the page cuts compared with op2gs-render --ply-object's.
 # Skipped (77) when Chromium or python3 is missing.
@@ -30,11 +31,17 @@ trap 'kill $server 2> /dev/null; rm -rf "$tmp"' EXIT
 until [ -s "$tmp/port" ]; do sleep 0.1; done
 port=$(cat "$tmp/port")
 
-# The first test view, RGB, labels with sigma*, and one object isolated.
-view=$(ls "$w/render/rgb" | head -1)
-camera="${view%.png}.jpg"
+# The first training view (where the page starts), rendered by op2gs-render;
+# the page's RGB, labels with sigma*, and one object isolated from there.
+camera=$(tr -d '\n ' < "$viewer/scene.json" | grep -o '"name":"[^"]*","t":\[[^]]*\],"test":false' |
+         head -1 | sed 's/"name":"\([^"]*\)".*/\1/')
+[ -n "$camera" ] || fail "scene.json lists no training camera"
+"$bin/op2gs-render" "$w/sfm/scene" "$w" --view "$camera" --out "$tmp/train_render" \
+  > "$tmp/render.log" 2>&1 || { tail -5 "$tmp/render.log"; fail "op2gs-render --view $camera"; }
+view="${camera%.*}.png"
+renders="$tmp/train_render"
 object=$(sed -n 's/.*"object": \([1-9][0-9]*\).*/\1/p' "$w/eval/metrics.json" | head -1)
-url="http://127.0.0.1:$port/viewer/demo/index.html?camera=$camera&shots=rgb,dual,dual@$object"
+url="http://127.0.0.1:$port/viewer/demo/index.html?shots=rgb,dual,dual@$object"
 url+="&capture=/shot&log=/log&extract=$object&extract_to=/object.ply"
 echo "-- headless Chromium on $url"
 "$chromium" --headless=new --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader \
@@ -51,9 +58,9 @@ wait "$browser" 2> /dev/null || true
 cat "$tmp/posted/log" 2> /dev/null | sed 's/^/   page: /'
 [ -s "$tmp/posted/shot2.png" ] || fail "the page did not capture its views in 120 s"
 
-"$check" rgb "$tmp/posted/shot0.png" "$w/render/rgb/$view" 25
-"$check" labels "$tmp/posted/shot1.png" "$w/render/instance_labels_color/$view" 0.75
-"$check" isolate "$tmp/posted/shot2.png" "$w/render/instance_labels_color/$view" "$object" 0.8
+"$check" rgb "$tmp/posted/shot0.png" "$renders/rgb/$view" 25
+"$check" labels "$tmp/posted/shot1.png" "$renders/instance_labels_color/$view" 0.75
+"$check" isolate "$tmp/posted/shot2.png" "$renders/instance_labels_color/$view" "$object" 0.8
 
 "$bin/op2gs-render" "$w/sfm/scene" "$w" --ply-object "$object" --ply-out "$tmp/render_object.ply" \
   > /dev/null 2>&1 || fail "op2gs-render --ply-object"
