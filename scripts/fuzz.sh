@@ -16,7 +16,7 @@ CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DOP2GS_FUZZ=ON -DOP2GS_BUILD_
   -DOP2GS_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 \
   > "$out/configure.log" ||
   { cat "$out/configure.log"; exit 1; }
-cmake --build "$build" -j"$(nproc)" --target fuzzers > "$out/build.log" ||
+cmake --build "$build" -j"$(nproc)" --target fuzzers > "$out/build.log" 2>&1 ||
   { tail -30 "$out/build.log"; exit 1; }
 # The harnesses hand each input to the parsers as a file: in memory it is 4x faster.
 [ -d /dev/shm ] && [ -w /dev/shm ] && export TMPDIR="${TMPDIR:-/dev/shm}"
