@@ -99,7 +99,10 @@ for i in $(seq 0 11); do
   turn=(); [ $((i % 3)) -eq 1 ] && turn=(--rotate90)
   oiiotool "$f" "${turn[@]}" -d uint16 -o "$tmp/phone/images/$(basename "$f")"
 done
-"$bin/op2gs-sfm" "$tmp/phone" "$tmp/phone_out" > "$tmp/phone.log" 2>&1 ||
+# One COLMAP thread: its multi-threaded mapper varies from run to run, and
+# on these 12 small photos it once registered 11 on a loaded machine (CI);
+# single-threaded it registered all 12 in every run tried.
+"$bin/op2gs-sfm" "$tmp/phone" "$tmp/phone_out" --threads 1 > "$tmp/phone.log" 2>&1 ||
   { tail -5 "$tmp/phone.log"; fail "16-bit, mixed photos did not reconstruct"; }
 grep -q "the photos have 2 different sizes" "$tmp/phone.log" || fail "mixed sizes not said"
 grep -q "16-bit photos: COLMAP reads 8-bit copies" "$tmp/phone.log" || fail "16-bit photos not converted"
