@@ -56,7 +56,56 @@ int main(int argc, char** argv) {
   app.add_flag("--3dovs-prepared", o.ovs_prepared,
                "write the 3DOVS layout as ObjectGS prepares it (sparse/0/, object_mask_deva/)");
   app.add_flag("--force", force, "replace an existing output folder");
+
+  // Real-capture imperfections (docs/synthetic.md): --capture sets all of
+  // them at typical strengths; each option alone overrides its value.
+  bool capture = false;
+  app.add_flag("--capture", capture,
+               "a real capture's imperfections at typical strengths: exposure and white-balance "
+               "drift, noise, JPEG, gloss, SfM-like pose error, ID switches, merges, late objects");
+  synth::CaptureOptions c;
+  synth::TrackErrorOptions t;
+  const auto* exposure = app.add_option("--exposure", c.exposure_stops,
+                                        "standard deviation of the views' exposure, in stops");
+  const auto* balance = app.add_option("--white-balance", c.white_balance,
+                                       "standard deviation of the per-channel gain (log)");
+  const auto* noise = app.add_option("--noise", c.noise, "sensor noise (read noise, 0..1 scale)");
+  const auto* jpeg = app.add_option("--jpeg-quality", c.jpeg_quality,
+                                    "pass the photos through JPEG at this quality (0: off)");
+  const auto* specular =
+      app.add_option("--specular", c.specular, "strength of the objects' specular highlights");
+  std::vector<double> pose;
+  const auto* pose_error = app.add_option("--pose-error", pose,
+                                          "camera-file error: rotation (degrees) and centre "
+                                          "(fraction of the orbit radius), standard deviations")
+                               ->expected(2);
+  const auto* focal =
+      app.add_option("--focal-error", c.focal_error, "relative error of the camera files' focal");
+  const auto* switches =
+      app.add_option("--id-switches", t.id_switches, "expected ID switches per object");
+  const auto* merges =
+      app.add_option("--merges", t.merges, "expected merges per pair of touching objects");
+  const auto* late =
+      app.add_option("--late-objects", t.late_objects, "share of objects first tracked late");
   return stages::run_stage(app, argc, argv, [&] {
+    if (capture) {
+      o.capture = synth::CaptureOptions::typical();
+      o.tracks = synth::TrackErrorOptions::typical();
+    }
+    const auto given = [](const CLI::Option* option) { return option->count() > 0; };
+    if (given(exposure)) o.capture.exposure_stops = c.exposure_stops;
+    if (given(balance)) o.capture.white_balance = c.white_balance;
+    if (given(noise)) o.capture.noise = c.noise;
+    if (given(jpeg)) o.capture.jpeg_quality = c.jpeg_quality;
+    if (given(specular)) o.capture.specular = c.specular;
+    if (given(pose_error)) {
+      o.capture.pose_rotation_degrees = pose[0];
+      o.capture.pose_translation = pose[1];
+    }
+    if (given(focal)) o.capture.focal_error = c.focal_error;
+    if (given(switches)) o.tracks.id_switches = t.id_switches;
+    if (given(merges)) o.tracks.merges = t.merges;
+    if (given(late)) o.tracks.late_objects = t.late_objects;
     o.write_sparse = !no_sparse;
     using synth::Shipping;
     o.shipping =

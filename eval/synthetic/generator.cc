@@ -39,6 +39,8 @@ void SynthOptions::Check() const {
     fail("the LERF-Mask download holds undistorted photos: no distortion");
   if (ovs_prepared && ovs_dir.empty()) fail("a prepared 3DOVS layout needs its folder");
   sam2.Check();
+  tracks.Check();
+  capture.Check();
 }
 
 std::string view_name(int i, const std::string& extension) {
@@ -184,6 +186,23 @@ splat::ColmapModel sample_sparse_model(const RayTracer& tracer,
   return model;
 }
 
+namespace {
+
+// The camera files hold the SfM-like cameras; the points and their
+// observations stay true, as a bundle adjustment leaves a small residual.
+void use_posed_cameras(RenderedScene& r) {
+  for (auto& [id, image] : r.sparse.images) {
+    const splat::Camera& c = r.posed_cameras[id - 1];
+    image.qvec = splat::quaternion_from_rotation(c.R);
+    image.tvec = c.t;
+  }
+  splat::ColmapCamera& camera = r.sparse.cameras.begin()->second;
+  camera.params[0] = r.posed_cameras.front().fx;
+  camera.params[1] = r.posed_cameras.front().fy;
+}
+
+}  // namespace
+
 RenderedScene render_scene(const SynthOptions& o, const SceneLayout& layout) {
   RenderedScene r;
   const RayTracer tracer(layout);
@@ -200,9 +219,19 @@ RenderedScene render_scene(const SynthOptions& o, const SceneLayout& layout) {
     const int n = ++done;
     if (n % 10 == 0 || n == o.views) spdlog::info("rendered {}/{} views", n, o.views);
   });
+  if (o.capture.photometric()) {
+    const std::vector<Eigen::Vector3d> gains = view_gains(o.capture, o.views, o.seed);
+    tbb::parallel_for(0, o.views, [&](int i) {
+      record_photo(r.images[i], gains[i], o.capture, o.seed * 104729 + uint64_t(i));
+    });
+  }
+  r.posed_cameras = o.capture.geometric()
+                        ? sfm_like_cameras(r.cameras, o.capture, o.orbit_radius, o.seed)
+                        : r.cameras;
   if (o.write_sparse || o.shipping != Shipping::kOp2gs || o.ovs_prepared) {
     r.sparse = sample_sparse_model(tracer, r.cameras, r.names, o.num_points, o.seed, distorted);
     spdlog::info("sampled {} sparse points seen from >= 2 views", r.sparse.points3d.size());
+    use_posed_cameras(r);
   }
   return r;
 }
@@ -232,7 +261,7 @@ json object_table(const SceneLayout& layout) {
 // camera-to-world pose with columns (down, right, backwards), then near, far.
 void write_poses_bounds(const fs::path& file, const RenderedScene& r, const SceneLayout& layout) {
   std::vector<double> rows;
-  for (const splat::Camera& c : r.cameras) {
+  for (const splat::Camera& c : r.posed_cameras) {
     const Eigen::Matrix3d c2w = c.R.transpose();
     Eigen::Matrix<double, 3, 5> m;
     m.col(0) = c2w.col(1);
@@ -356,8 +385,26 @@ void write_layout(const fs::path& dir, const SynthOptions& o, const SceneLayout&
                  {"leak_radius", o.sam2.leak_radius},
                  {"spurious_blobs", o.sam2.spurious_blobs},
                  {"spurious_radius", o.sam2.spurious_radius},
-                 {"persistence_views", o.sam2.persistence_views}}}};
+                 {"persistence_views", o.sam2.persistence_views}}},
+               {"tracks",
+                {{"id_switches", o.tracks.id_switches},
+                 {"switch_run_views", o.tracks.switch_run_views},
+                 {"merges", o.tracks.merges},
+                 {"merge_run_views", o.tracks.merge_run_views},
+                 {"late_objects", o.tracks.late_objects},
+                 {"late_fraction", o.tracks.late_fraction}}},
+               {"capture",
+                {{"exposure_stops", o.capture.exposure_stops},
+                 {"white_balance", o.capture.white_balance},
+                 {"drift_correlation", o.capture.drift_correlation},
+                 {"noise", o.capture.noise},
+                 {"jpeg_quality", o.capture.jpeg_quality},
+                 {"specular", o.capture.specular},
+                 {"pose_rotation_degrees", o.capture.pose_rotation_degrees},
+                 {"pose_translation", o.capture.pose_translation},
+                 {"focal_error", o.capture.focal_error}}}};
   splat::write_text_atomically(dir / "scene.json", meta.dump(2) + "\n");
+  splat::write_text_atomically(dir / "surfaces.json", layout_to_json(layout).dump(2) + "\n");
 }
 
 // Camera to world in the OpenGL convention (x right, y up, z back), as
@@ -390,7 +437,7 @@ void write_capture(const fs::path& dir, const SynthOptions& o, const SceneLayout
   // nerfstudio turns COLMAP's world (x <-> y, z flipped) and says so.
   Eigen::Matrix3d turn = Eigen::Matrix3d::Identity();
   if (ns) turn << 0, 1, 0, 1, 0, 0, 0, 0, -1;
-  const splat::Camera& c0 = r.cameras.front();
+  const splat::Camera& c0 = r.posed_cameras.front();
   json t = {{"w", c0.width}, {"h", c0.height}, {"fl_x", c0.fx},
             {"fl_y", c0.fy}, {"cx", c0.cx},    {"cy", c0.cy}};
   if (!ns) {
@@ -409,7 +456,8 @@ void write_capture(const fs::path& dir, const SynthOptions& o, const SceneLayout
   for (int i = 0; i < n; ++i) {
     // instant-ngp's captures often name their photos without extension.
     const std::string path = "images/" + (ns ? r.names[i] : stem(r.names[i]));
-    frames.push_back({{"file_path", path}, {"transform_matrix", opengl_pose(r.cameras[i], turn)}});
+    frames.push_back(
+        {{"file_path", path}, {"transform_matrix", opengl_pose(r.posed_cameras[i], turn)}});
   }
   t["frames"] = frames;
   splat::write_text_atomically(dir / "transforms.json", t.dump(4) + "\n");
@@ -449,15 +497,18 @@ void generate_scene(const SynthOptions& o, const fs::path& out_dir, bool force) 
   o.Check();
   if (fs::exists(out_dir) && !force)
     throw std::runtime_error(out_dir.string() + ": already exists (use --force to replace it)");
-  const SceneLayout layout = default_layout(o.seed);
+  SceneLayout layout = default_layout(o.seed);
+  layout.specular = o.capture.specular;
   spdlog::info("rendering {} views at {}x{} ({}x{} samples per pixel)", o.views, o.width, o.height,
                o.supersample, o.supersample);
   const RenderedScene r = render_scene(o, layout);
 
   std::vector<int> ids;
   for (const SceneObject& obj : layout.objects) ids.push_back(obj.id);
-  const std::vector<splat::IdMap> sam2 =
-      corrupt_sequence_like_sam2(r.instance_maps, ids, o.sam2, o.seed);
+  std::vector<splat::IdMap> sam2 = corrupt_sequence_like_sam2(r.instance_maps, ids, o.sam2, o.seed);
+  const std::vector<int> switched =
+      apply_track_errors(sam2, r.instance_maps, ids, o.tracks, o.seed);
+  if (!switched.empty()) spdlog::info("{} track IDs switched", switched.size());
 
   const fs::path abs_out = fs::absolute(out_dir).lexically_normal();
   const fs::path tmp = abs_out.parent_path() /

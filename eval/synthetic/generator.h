@@ -12,6 +12,8 @@
 //   queries.txt                   one query (object name) per line
 //   objects.json                  the object table (id, name, shape, hard case)
 //   scene.json                    how the scene was made (options, orbit, seed)
+//   surfaces.json                 the true surfaces (objects, ground, dome), to
+//                                 find floaters in a trained model
 //
 // and optionally the same scene in the 3DOVS layout (images/NN.png,
 // segmentations/, poses_bounds.npy; or, prepared as the 3DGS papers do,
@@ -37,8 +39,10 @@
 #include <string>
 #include <vector>
 
+#include "eval/synthetic/capture_imperfections.h"
 #include "eval/synthetic/sam2_corruption.h"
 #include "eval/synthetic/scene_layout.h"
+#include "eval/synthetic/track_errors.h"
 #include "splat/camera.h"
 #include "splat/colmap_model.h"
 
@@ -66,6 +70,8 @@ struct SynthOptions {
   Shipping shipping = Shipping::kOp2gs;
   std::vector<double> distortion;  // OPENCV k1 k2 p1 p2 of the photos; empty: pinhole
   Sam2CorruptionOptions sam2;
+  TrackErrorOptions tracks;  // the segmenter's track errors (ID switches, merges)
+  CaptureOptions capture;    // exposure, noise, JPEG, gloss, SfM-like pose error
 
   void Check() const;  // throws std::invalid_argument with a one-line message
 };
@@ -78,7 +84,8 @@ std::string view_name(int i, const std::string& extension = ".png");
 
 // Ray-traced images, exact ID maps and the sparse model of a scene, in memory.
 struct RenderedScene {
-  std::vector<splat::Camera> cameras;
+  std::vector<splat::Camera> cameras;        // the true cameras, which rendered the photos
+  std::vector<splat::Camera> posed_cameras;  // as the camera files hold them (SfM-like error)
   std::vector<std::string> names;
   std::vector<splat::ImageRGB> images;
   std::vector<splat::IdMap> instance_maps;

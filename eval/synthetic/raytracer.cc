@@ -320,6 +320,15 @@ V RayTracer::surface_color(const Hit& hit) const {
   return (albedo(hit) * light).cwiseMin(1.0).cwiseMax(0.0);
 }
 
+V RayTracer::highlight(const Hit& hit, const V& dir) const {
+  if (layout_.specular <= 0 || hit.object < 0) return V::Zero();
+  const V half = (light_ - dir).normalized();
+  const double cosine = hit.normal.dot(half);
+  if (cosine <= 0 || hit.normal.dot(light_) <= 0) return V::Zero();
+  const double s = layout_.specular * std::pow(cosine, layout_.shininess);
+  return V::Constant(s * light_visibility(hit.point + 1e-5 * hit.normal));
+}
+
 V RayTracer::trace(const V& origin, const V& dir) const {
   V color = V::Zero();
   double remaining = 1.0;
@@ -328,14 +337,14 @@ V RayTracer::trace(const V& origin, const V& dir) const {
   for (int bounce = 0; bounce < 4; ++bounce) {
     const Hit h = intersect(o, dir, false, skip);
     const double a = h.object >= 0 ? layout_.objects[h.object].material.opacity : 1.0;
-    color += remaining * a * surface_color(h);
+    color += remaining * a * (surface_color(h) + highlight(h, dir));
     remaining *= 1 - a;
     if (remaining <= 1e-4) break;
     // Pass through the semi-transparent object, ignoring its far side.
     skip = h.object;
     o = h.point;
   }
-  return color;
+  return color.cwiseMin(1.0);
 }
 
 int RayTracer::instance_id(const V& origin, const V& dir) const {

@@ -1,8 +1,9 @@
 #pragma once
 // A small ray tracer for the synthetic scene: exact intersections with the
 // canonical shapes, Lambertian shading with one directional light, hard
-// shadows and semi-transparent surfaces. All colours are view-independent, so
-// multi-view geometry (SfM) and 3DGS fit the images exactly.
+// shadows and semi-transparent surfaces. Colours are view-independent, so
+// multi-view geometry (SfM) and 3DGS fit the images exactly, unless the
+// layout asks for specular highlights (SceneLayout::specular).
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -41,6 +42,9 @@ class RayTracer {
 
   // Shaded colour of the surface at a hit, without transparency.
   Eigen::Vector3d surface_color(const Hit& hit) const;
+  // The view-dependent specular highlight at a hit seen along dir (zero
+  // unless the layout is glossy).
+  Eigen::Vector3d highlight(const Hit& hit, const Eigen::Vector3d& dir) const;
 
   const SceneLayout& layout() const { return layout_; }
 

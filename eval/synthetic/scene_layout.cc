@@ -1,7 +1,9 @@
 #include "eval/synthetic/scene_layout.h"
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <random>
+#include <stdexcept>
 
 namespace synth {
 
@@ -17,6 +19,62 @@ const char* shape_name(Shape s) {
       return "cone";
   }
   return "?";
+}
+
+namespace {
+
+Eigen::Vector3d vector3(const nlohmann::json& j, const char* field) {
+  const nlohmann::json& v = j.at(field);
+  if (!v.is_array() || v.size() != 3)
+    throw std::invalid_argument(std::string("surfaces: ") + field + " is not three numbers");
+  return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+}
+
+}  // namespace
+
+nlohmann::json layout_to_json(const SceneLayout& layout) {
+  const auto array = [](const Eigen::Vector3d& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
+  nlohmann::json objects = nlohmann::json::array();
+  for (const SceneObject& o : layout.objects)
+    objects.push_back({{"id", o.id},
+                       {"name", o.name},
+                       {"shape", shape_name(o.shape)},
+                       {"position", array(o.position)},
+                       {"half_size", array(o.half_size)},
+                       {"yaw", o.yaw},
+                       {"opacity", o.material.opacity}});
+  return {{"objects", objects},
+          {"ground_y", 0.0},
+          {"enclosure_radius", layout.enclosure_radius},
+          {"look_at", array(layout.look_at)},
+          {"light_direction", array(layout.light_direction)}};
+}
+
+SceneLayout layout_from_json(const nlohmann::json& j) {
+  try {
+    SceneLayout layout;
+    layout.enclosure_radius = j.at("enclosure_radius").get<double>();
+    layout.look_at = vector3(j, "look_at");
+    layout.light_direction = vector3(j, "light_direction");
+    for (const nlohmann::json& jo : j.at("objects")) {
+      SceneObject o;
+      o.id = jo.at("id").get<int>();
+      o.name = jo.at("name").get<std::string>();
+      const std::string shape = jo.at("shape").get<std::string>();
+      bool known = false;
+      for (Shape s : {Shape::kSphere, Shape::kBox, Shape::kCylinder, Shape::kCone})
+        if (shape == shape_name(s)) o.shape = s, known = true;
+      if (!known) throw std::invalid_argument("surfaces: unknown shape '" + shape + "'");
+      o.position = vector3(jo, "position");
+      o.half_size = vector3(jo, "half_size");
+      o.yaw = jo.at("yaw").get<double>();
+      o.material.opacity = jo.at("opacity").get<double>();
+      layout.objects.push_back(o);
+    }
+    return layout;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument(std::string("surfaces: ") + e.what());
+  }
 }
 
 namespace {

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,10 @@ struct SceneLayout {
   std::vector<SceneObject> objects;
   Eigen::Vector3d light_direction{0.4, 1.0, 0.3};  // towards the light
   double ambient = 0.35;
+  // Glossy objects: Blinn-Phong highlights of this strength (0: Lambertian,
+  // every colour view-independent). The ground and the dome stay matte.
+  double specular = 0;
+  double shininess = 32;
   double enclosure_radius = 7.0;  // the dome around everything
   Eigen::Vector3d look_at{0.0, 0.3, 0.0};
   // A dark region (on the ground and the dome behind it) around the dark object.
@@ -52,6 +57,14 @@ struct SceneLayout {
   double dark_azimuth = 0, dark_azimuth_halfwidth = 0;       // dome sector, radians
   Eigen::Vector3d texture_offset = Eigen::Vector3d::Zero();  // varies the textures by seed
 };
+
+// The surfaces of a layout as surfaces.json holds them: every object's
+// shape, pose, size and opacity; the ground plane (y = 0) and the dome's
+// radius. Textures are left out: they are not needed to say where a surface is.
+nlohmann::json layout_to_json(const SceneLayout& layout);
+// The inverse (textures default). Throws std::invalid_argument naming the
+// field that is missing or wrong.
+SceneLayout layout_from_json(const nlohmann::json& surfaces);
 
 // The default scene of ten objects. The seed varies textures and colours, not
 // the placement (objects must not intersect, and the touching pair must touch).
