@@ -28,6 +28,13 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--allow-missing", o.allow_missing,
                "skip training views without an ID map (with a warning)");
+  app.add_flag("--join-switched-ids", o.join_switched_ids,
+               "join the IDs a video segmenter gave one object after losing its track (IDs "
+               "never seen together that label the same Gaussians) before the majority vote");
+  app.add_option("--id-association", o.track_ids.min_association,
+                 "with --join-switched-ids: the least share of views in which one ID's "
+                 "Gaussians carry the other")
+      ->capture_default_str();
   app.add_option("--previews", o.preview_views, "training views with a label preview")
       ->capture_default_str();
   stages::add_scene_options(app, o.scene, split, threads,

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 
 namespace splat {
@@ -81,11 +82,33 @@ struct LabelVotes::Storage {
       if (s.count && s.id == id) return s.add();
       if (!s.count) return void(s = {id, 1});
     }
+    overflow_list(c, id).add();
+  }
+
+  // The slot of id on Gaussian c's list on the side (made if needed).
+  Slot& overflow_list(Counters& c, uint16_t id) {
     if (!c.overflow) c.overflow = uint32_t(more.emplace_back() - more.begin()) + 1;
     std::vector<Slot>& list = more[c.overflow - 1];
     for (Slot& s : list)
-      if (s.id == id) return s.add();
-    list.push_back({id, 1});
+      if (s.id == id) return s;
+    list.push_back({id, 0});
+    return list.back();
+  }
+
+  // Replaces Gaussian j's counts (id -> count, counts of 0 ignored).
+  void set(size_t j, const std::map<uint16_t, uint32_t>& counts) {
+    Counters& c = counters[j];
+    c.slots = {};
+    if (c.overflow) more[c.overflow - 1].clear();
+    size_t k = 0;
+    for (const auto& [id, n] : counts) {
+      if (!n) continue;
+      const Slot s{id, uint16_t(std::min<uint32_t>(n, 0xFFFF))};
+      if (k < kInline)
+        c.slots[k++] = s;
+      else
+        overflow_list(c, id) = s;
+    }
   }
 
   template <typename F>
@@ -144,5 +167,48 @@ uint32_t LabelVotes::votes(size_t j) const {
 }
 
 uint32_t LabelVotes::votes_for_label(size_t j) const { return storage_->winner(j).count; }
+
+double LabelVotes::IdAssociation::association(int32_t a, int32_t b) const {
+  const auto v = votes.find(a);
+  const auto s = shared.find({std::min(a, b), std::max(a, b)});
+  if (v == votes.end() || s == shared.end() || v->second <= 0) return 0;
+  return s->second / v->second;
+}
+
+LabelVotes::IdAssociation LabelVotes::id_association() const {
+  IdAssociation a;
+  std::vector<Storage::Slot> slots;
+  for (size_t j = 0; j < size(); ++j) {
+    slots.clear();
+    uint32_t n = 0;
+    storage_->for_each_slot(j, [&](const Storage::Slot& s) {
+      n += s.count;
+      if (s.id) slots.push_back(s);
+    });
+    for (size_t p = 0; p < slots.size(); ++p) {
+      a.votes[slots[p].id] += slots[p].count;
+      for (size_t q = 0; q < slots.size(); ++q) {
+        if (slots[p].id >= slots[q].id) continue;
+        a.shared[{slots[p].id, slots[q].id}] += double(slots[p].count) * slots[q].count / n;
+      }
+    }
+  }
+  return a;
+}
+
+void LabelVotes::remap_ids(const std::map<int32_t, int32_t>& canonical) {
+  if (canonical.empty()) return;
+  for (size_t j = 0; j < size(); ++j) {
+    std::map<uint16_t, uint32_t> counts;
+    bool changed = false;
+    storage_->for_each_slot(j, [&](const Storage::Slot& s) {
+      const auto it = canonical.find(s.id);
+      const bool moved = it != canonical.end() && it->second != s.id;
+      changed |= moved;
+      counts[moved ? uint16_t(it->second) : s.id] += s.count;
+    });
+    if (changed) storage_->set(j, counts);
+  }
+}
 
 }  // namespace splat

@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -111,6 +112,21 @@ class LabelVotes {
   // Votes cast by Gaussian j, and how many of them went to its label.
   uint32_t votes(size_t j) const;
   uint32_t votes_for_label(size_t j) const;
+
+  // How the IDs share Gaussians: per nonzero ID a, its votes; per pair a < b
+  // of nonzero IDs, the sum over Gaussians of c_a c_b / n (c: the Gaussian's
+  // votes for an ID, n: all its votes). shared / votes[a] is the share of
+  // the views that see a's Gaussians in which they carry b.
+  struct IdAssociation {
+    std::map<int32_t, double> votes;
+    std::map<std::pair<int32_t, int32_t>, double> shared;
+    double association(int32_t a, int32_t b) const;  // shared(a, b) / votes[a]
+  };
+  IdAssociation id_association() const;
+
+  // Counts every vote for an ID under the ID it maps to (IDs not in the map
+  // stay): one object seen under several IDs becomes one label.
+  void remap_ids(const std::map<int32_t, int32_t>& canonical);
 
  private:
   struct Storage;

@@ -1,6 +1,7 @@
 #include "splat/label/vote_run.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_pipeline.h>
 
@@ -28,6 +29,7 @@ using json = nlohmann::json;
 void VoteRunOptions::Check() const {
   scene.Check();
   vote.Check();
+  track_ids.Check();
   if (model.empty()) throw std::invalid_argument("the stage-one model is not set");
   if (id_maps.empty()) throw std::invalid_argument("the ID map folder name is empty");
   if (preview_views < 0) throw std::invalid_argument("preview_views must be >= 0");
@@ -42,7 +44,8 @@ struct PreparedView {
   IdMap ids;
   DepthMap depth;
   std::vector<int32_t> ids_present;
-  std::exception_ptr error;  // why the view could not be prepared
+  std::vector<int32_t> segments;  // IDs large enough to count as seen (track_ids.h)
+  std::exception_ptr error;       // why the view could not be prepared
 };
 
 // Names of the IDs from <id maps>/objects.json: [{"id": 1, "name": ...}] or
@@ -219,6 +222,7 @@ void prepare_view(const VotingRun& run, size_t v, RenderStatePool& states, Prepa
     states.give(std::move(state));
   }
   p.ids_present = ids_in_map(p.ids);
+  p.segments = segments_in_map(p.ids, run.o.track_ids.min_segment_share);
 }
 
 // Reading a map and rendering its depth run for several views at once;
@@ -226,7 +230,8 @@ void prepare_view(const VotingRun& run, size_t v, RenderStatePool& states, Prepa
 // pipeline (TBB would leak the views in flight): a view that fails carries
 // its error to the last step, which stops there; the first failing view's
 // error, in view order, is rethrown.
-void collect_votes(VotingRun& run, LabelVotes& votes, std::map<int, size_t>& views_per_id) {
+void collect_votes(VotingRun& run, LabelVotes& votes, std::map<int, size_t>& views_per_id,
+                   IdCooccurrence& cooccurrence) {
   const GaussianModel& model = run.stage_one.model;
   const VoteOptions& vote = run.o.vote;
   RenderStatePool states;
@@ -261,6 +266,7 @@ void collect_votes(VotingRun& run, LabelVotes& votes, std::map<int, size_t>& vie
                    }
                    votes.add_view(model, p->camera, p->ids, run.cull() ? &p->depth : nullptr, vote);
                    for (int32_t id : p->ids_present) ++views_per_id[id];
+                   cooccurrence.add_view(p->segments);
                  }));
   if (error) std::rethrow_exception(error);
 }
@@ -294,6 +300,24 @@ size_t write_baseline_maps(const VotingRun& run, const fs::path& out) {
   return run.split.test.size();
 }
 
+// One object seen under several IDs gets one label (track_ids.h).
+void join_switched_ids(LabelVotes& votes, const IdCooccurrence& cooccurrence,
+                       const TrackIdOptions& options, VoteRunResult& result) {
+  const TrackIdResult joined = find_switched_ids(votes.id_association(), cooccurrence, options);
+  for (const JoinedIds& g : joined.groups)
+    spdlog::info("ID {} and {} name one object (a lost and re-found track): joined as {}", g.kept,
+                 fmt::join(g.joined, ", "), g.kept);
+  if (joined.groups.empty()) spdlog::info("no ID names an object another ID names");
+  votes.remap_ids(joined.canonical);
+  result.joined_ids = joined.groups;
+}
+
+json joined_ids_json(const std::vector<JoinedIds>& groups) {
+  json j = json::array();
+  for (const JoinedIds& g : groups) j.push_back({{"kept", g.kept}, {"joined", g.joined}});
+  return j;
+}
+
 }  // namespace
 
 VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const VoteRunOptions& o) {
@@ -312,12 +336,14 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const V
   reorder_gaussians(model, order);
   LabelVotes votes(model.size());
   std::map<int, size_t> views_per_id;
-  collect_votes(run, votes, views_per_id);
+  IdCooccurrence cooccurrence;
+  collect_votes(run, votes, views_per_id, cooccurrence);
   if (views_per_id.empty() || views_per_id.rbegin()->first <= 0)
     throw InputError(run.folder,
                      "no training view's ID map holds an object ID (every pixel is "
                      "0, background): nothing to vote for");
   result.views_used = run.used.size();
+  if (o.join_switched_ids) join_switched_ids(votes, cooccurrence, o.track_ids, result);
   model.labels = votes.labels();
   model.has_labels = true;
 
@@ -332,6 +358,7 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const V
   summary["views_skipped"] = result.views_skipped;
   summary["visibility"] = run.cull() ? "depth" : "frustum";
   summary["depth_tolerance"] = o.vote.depth_tolerance;
+  if (o.join_switched_ids) summary["joined_ids"] = joined_ids_json(result.joined_ids);
 
   write_previews(run, out);
   if (o.baseline_maps) summary["baseline_views"] = write_baseline_maps(run, out);

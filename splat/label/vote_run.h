@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "splat/label/track_ids.h"
 #include "splat/label/vote.h"
 #include "splat/scene.h"
 #include "splat/view_split.h"
@@ -34,6 +35,10 @@ struct VoteRunOptions {
   bool allow_missing = false;  // skip training views without an ID map (with a warning)
   int preview_views = 3;
   bool baseline_maps = true;  // render the baseline label maps of the test views
+  // Join the IDs a video segmenter gave one object after losing its track
+  // (track_ids.h) before taking the majority. Off: the paper's plain vote.
+  bool join_switched_ids = false;
+  TrackIdOptions track_ids;
 
   void Check() const;  // throws std::invalid_argument with a one-line message
 };
@@ -42,10 +47,11 @@ struct VoteRunResult {
   size_t gaussians = 0;
   size_t views_used = 0;
   std::vector<std::string> views_skipped;
-  size_t objects = 0;           // labels other than 0 that some Gaussian got
-  double background_share = 0;  // Gaussians labelled 0
-  double unseen_share = 0;      // Gaussians visible in no view (labelled 0)
-  double vote_agreement = 0;    // mean share of a Gaussian's votes that its label got
+  size_t objects = 0;                 // labels other than 0 that some Gaussian got
+  double background_share = 0;        // Gaussians labelled 0
+  double unseen_share = 0;            // Gaussians visible in no view (labelled 0)
+  double vote_agreement = 0;          // mean share of a Gaussian's votes that its label got
+  std::vector<JoinedIds> joined_ids;  // with join_switched_ids
   double seconds = 0;
 };
 
