@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# The real-capture study (docs/benchmarks.md, "Real-capture imperfections"):
+# for each condition and seed, a synthetic scene made with op2gs-synth's
+# capture options, stage one on the stage-two benchmark's schedule (scaled
+# down by SCALE, default 4: 7,500 iterations), then for each variant voting,
+# stage two, rendering and op2gs-eval in oracle mode. One line of JSON per
+# (condition, seed, variant) is appended to <out>/results.jsonl with test
+# PSNR, baseline and dual-opacity mIoU / mBIoU and their per-object IoU.
+#
+#   bench/capture_study.sh <build dir> <out dir> <seeds> <condition>...
+#
+# A condition is a name and op2gs-synth options, name=options with commas for
+# spaces: clean=  exposure=--exposure,0.25,--white-balance,0.03
+# Variants (VARIANTS, default "plain"): plain (the paper's recipe), joined
+# (op2gs-vote --join-switched-ids), exposure (op2gs-train
+# --exposure-compensation), exposure+joined.
+# Environment: SCALE (schedule divisor), SYNTH (extra op2gs-synth options for
+# every condition, e.g. "--width 640 --height 480 --views 60").
+set -euo pipefail
+build="$(cd "$1" && pwd)"
+out="$2"
+seeds="$3"
+shift 3
+scale="${SCALE:-4}"
+variants="${VARIANTS:-plain}"
+total=$((30000 / scale))
+stage_one=$((20000 / scale))
+densify_until=$((15000 / scale))
+bin="$build/stages"
+mkdir -p "$out"
+quiet() { "$@" 2>&1 | tr '\r' '\n' | grep -v '^\[[#-]' | grep -E 'PSNR|joined|error|Error' || true; }
+
+for condition in "$@"; do
+  name="${condition%%=*}"
+  options="${condition#*=}"
+  for seed in $seeds; do
+    dir="$out/$name-$seed"
+    mkdir -p "$dir"
+    # shellcheck disable=SC2086
+    [ -d "$dir/scene" ] || "$bin/op2gs-synth" "$dir/scene" --seed "$seed" ${SYNTH:-} ${options//,/ } \
+      > "$dir/synth.log" 2>&1
+    for variant in $variants; do
+      train_options=() vote_options=()
+      case "$variant" in
+        plain) ;;
+        joined) vote_options=(--join-switched-ids) ;;
+        exposure) train_options=(--exposure-compensation) ;;
+        exposure+joined)
+          train_options=(--exposure-compensation)
+          vote_options=(--join-switched-ids)
+          ;;
+        *) echo "unknown variant $variant" >&2; exit 2 ;;
+      esac
+      # Variants that train alike share stage one.
+      one="$dir/stage-one${train_options[*]:+-exposure}"
+      if [ ! -f "$one/metrics.json" ]; then
+        echo "== $name seed $seed: stage one ${train_options[*]:-}"
+        quiet "$bin/op2gs-train" "$dir/scene" "$one" --iterations "$stage_one" --schedule "$total" \
+          --densify-until "$densify_until" "${train_options[@]}"
+      fi
+      work="$dir/$variant"
+      rm -rf "$work"
+      cp -r "$one" "$work"
+      echo "== $name seed $seed: $variant"
+      quiet "$bin/op2gs-vote" "$dir/scene" "$work" "${vote_options[@]}"
+      quiet "$bin/op2gs-learn" "$dir/scene" "$work" --iterations "$total" --schedule "$total"
+      quiet "$bin/op2gs-render" "$dir/scene" "$work"
+      "$bin/op2gs-eval" "$dir/scene" --pred dual-opacity="$work/render/masks" \
+        --pred baseline="$work/render/baseline_labels" --out "$work/metrics.json" > /dev/null 2>&1
+      python3 - "$name" "$seed" "$variant" "$work" "$one" >> "$out/results.jsonl" <<'PY'
+import json, sys
+name, seed, variant, work, one = sys.argv[1:]
+m = json.load(open(f"{work}/metrics.json"))["results"]
+def objects(r):
+    return {q["query"]: round(100 * q["miou"], 2) for q in r["queries"]}
+line = {
+    "condition": name, "seed": int(seed), "variant": variant,
+    "psnr_stage_one": json.load(open(f"{one}/metrics.json"))["psnr"],
+    "psnr": json.load(open(f"{work}/learn/metrics.json"))["psnr"],
+}
+for k in ("dual-opacity", "baseline"):
+    line[k] = {"miou": round(100 * m[k]["miou"], 2), "mbiou": round(100 * m[k]["mbiou"], 2),
+               "objects": objects(m[k])}
+print(json.dumps(line))
+PY
+      tail -1 "$out/results.jsonl" | python3 -c "
+import json,sys; l=json.loads(sys.stdin.read())
+print(f\"   {l['condition']} {l['seed']} {l['variant']}: dual {l['dual-opacity']['miou']:.1f} baseline {l['baseline']['miou']:.1f} PSNR {l['psnr']:.2f}\")"
+      rm -rf "$work/checkpoints"
+    done
+  done
+done
