@@ -25,6 +25,12 @@ class TrainingCli {
         ->capture_default_str();
     app.add_option("--ply-at", o.ply_at, "also write a PLY at these iterations");
     app.add_option("--test-at", o.test_at, "also evaluate the test views at these iterations");
+    app.add_flag("--exposure-compensation", o.train.exposure.enabled,
+                 "learn a colour transform per training view (exposure, white balance) applied "
+                 "before the loss; test views are rendered without it");
+    app.add_option("--exposure-regularization", o.train.exposure.regularization,
+                   "weight of the pull of each view's transform towards the identity")
+        ->capture_default_str();
     app.add_option("--cache-mb", cache_mb_, "decoded images kept in memory, MiB")
         ->capture_default_str();
   }

@@ -24,6 +24,7 @@ void TrainOptions::Check() const {
   if (total_iterations < 1) fail("total_iterations must be >= 1");
   if (sh_degree < 0 || sh_degree > 3) fail("sh_degree must be 0..3");
   if (sh_increase_every < 1) fail("sh_increase_every must be >= 1");
+  exposure.Check();
   if (densify_every < 1 || opacity_reset_every < 1) fail("densification intervals must be >= 1");
   for (float lr : {lr_position_init, lr_position_final, lr_sh_dc, lr_sh_rest, lr_opacity, lr_scale,
                    lr_rotation, lr_instance_opacity})
@@ -38,6 +39,7 @@ Trainer::Trainer(const fs::path& scene_dir, const TrainOptions& options)
   scene_ = Scene::load(scene_dir, options_.scene);
   split_ = split_views(*scene_, options_.split);
   extent_ = scene_->extent();
+  if (options_.exposure.enabled) exposure_ = ViewColorTransforms(scene_->views().size());
 }
 
 void Trainer::initialize_from_sfm() {
@@ -137,7 +139,13 @@ void Trainer::train_until(int until,
       settings.instance_labels = st.objects;
     }
     renderer_.render(model_, cam, settings, render_out_, &render_state_);
-    st.loss = image_loss(render_out_.color, *target, o.loss, &out_grads_.color);
+    std::span<const float> shown = render_out_.color;
+    if (compensates_exposure()) {
+      exposed_.resize(render_out_.color.size());
+      exposure_.apply(view, render_out_.color, exposed_);
+      shown = exposed_;
+    }
+    st.loss = image_loss(shown, *target, o.loss, &out_grads_.color);
     if (objects)
       st.object_loss = object_loss(render_out_.instance_maps, render_out_.instance_map_labels,
                                    objects->ids, o.object_loss.weight, &out_grads_.instance_maps);
@@ -148,7 +156,13 @@ void Trainer::train_until(int until,
           fmt::format("the loss is not finite at iteration {} (view {}); "
                       "nothing was saved after the last checkpoint",
                       it, scene_->views()[view].name));
-    st.psnr = psnr(render_out_.color, target->data);
+    st.psnr = psnr(shown, target->data);
+    if (compensates_exposure()) {
+      // The last iteration of the schedule takes no step, as for the Gaussians.
+      const float lr = it < o.total_iterations ? exposure_learning_rate(it) : 0.f;
+      exposure_.backward_and_step(view, render_out_.color, out_grads_.color, lr,
+                                  o.exposure.regularization);
+    }
     renderer_.backward(model_, cam, settings, *render_state_, out_grads_, grads_);
 
     std::array<bool, kParamGroups> skip{};
@@ -191,7 +205,8 @@ std::vector<ViewMetrics> Trainer::evaluate(const std::vector<size_t>& views,
     const RenderOutput out = renderer_.render(model_, view.camera, settings);
     const auto target = scene_->image(v);
     ViewMetrics m{view.name, psnr(out.color, target->data),
-                  ssim(out.color, target->data, target->width, target->height)};
+                  ssim(out.color, target->data, target->width, target->height),
+                  psnr_after_fit(out.color, target->data, out.width, out.height, out.width / 2)};
     metrics.push_back(m);
     if (!render_dir.empty()) {
       ImageRGB image(out.width, out.height);
@@ -207,6 +222,9 @@ std::vector<ViewMetrics> Trainer::evaluate(const std::vector<size_t>& views,
 // The model first (splat/checkpoint.h), then the trainer's own state.
 
 namespace {
+// Marks the optional exposure section at the end of a checkpoint.
+constexpr std::string_view kExposureTag = "exposure-transforms-v1";
+
 bool all_finite(const GaussianModel& m) {
   for (int g = 0; g < kParamGroups; ++g)
     for (float x : group_values(m, ParamGroup(g)))
@@ -214,6 +232,12 @@ bool all_finite(const GaussianModel& m) {
   return true;
 }
 }  // namespace
+
+float Trainer::exposure_learning_rate(int iteration) const {
+  const ExposureOptions& e = options_.exposure;
+  const double t = std::clamp(double(iteration) / options_.total_iterations, 0.0, 1.0);
+  return float(std::exp((1 - t) * std::log(e.lr_init) + t * std::log(e.lr_final)));
+}
 
 void Trainer::save_checkpoint(const fs::path& file) const {
   if (!all_finite(model_))
@@ -238,6 +262,10 @@ void Trainer::save_checkpoint(const fs::path& file) const {
     names.push_back('\n');
   }
   write_vector(out, names);
+  if (compensates_exposure()) {
+    write_vector(out, std::vector<char>(kExposureTag.begin(), kExposureTag.end()));
+    exposure_.save(out);
+  }
   write_text_atomically(file, out.str());
 }
 
@@ -266,6 +294,14 @@ void Trainer::load_checkpoint(const fs::path& file) {
     for (size_t v : view_stack_)
       if (v >= scene_->views().size())
         throw InputError(file, "checkpoint refers to a missing view");
+    if (in.peek() != std::char_traits<char>::eof()) {
+      const std::vector<char> tag = read_vector<char>(in);
+      if (std::string(tag.begin(), tag.end()) != kExposureTag)
+        throw InputError(file, "corrupt checkpoint: unknown section after the training state");
+      exposure_.load(in);
+      if (exposure_.size() != scene_->views().size())
+        throw InputError(file, "the checkpoint's exposure transforms are for another scene");
+    }
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {

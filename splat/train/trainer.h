@@ -25,6 +25,7 @@
 #include "splat/scene.h"
 #include "splat/train/adam.h"
 #include "splat/train/densify.h"
+#include "splat/train/exposure.h"
 #include "splat/train/image_loss.h"
 #include "splat/train/object_loss.h"
 #include "splat/view_split.h"
@@ -57,6 +58,9 @@ struct TrainOptions {
   int densify_every = 100;
   int opacity_reset_every = 3000;
   DensifyOptions densify;
+  // A learned colour transform per training view (exposure.h); off in the
+  // reference recipe. A checkpoint made with it keeps it on.
+  ExposureOptions exposure;
 
   // Throws std::invalid_argument with a one-line message.
   void Check() const;
@@ -78,6 +82,9 @@ struct IterationStats {
 struct ViewMetrics {
   std::string name;
   double psnr = 0, ssim = 0;
+  // PSNR of the right half after a colour transform fitted on the left half
+  // (exposure.h, psnr_after_fit): NeRF in the Wild's protocol.
+  double psnr_fitted = 0;
 };
 
 // Raised when training produces a non-finite loss; nothing is saved then.
@@ -117,6 +124,9 @@ class Trainer {
   Scene& scene() { return *scene_; }
   const TrainOptions& options() const { return options_; }
   float position_learning_rate(int iteration) const;
+  float exposure_learning_rate(int iteration) const;
+  bool compensates_exposure() const { return exposure_.size() > 0; }
+  const ViewColorTransforms& exposure() const { return exposure_; }
 
  private:
   size_t next_view();
@@ -150,6 +160,8 @@ class Trainer {
   RenderOutput render_out_;
   RenderOutputGradients out_grads_;
   GaussianGradients grads_;
+  ViewColorTransforms exposure_;  // empty unless exposure compensation is on
+  std::vector<float> exposed_;    // the render through the view's transform
 };
 
 }  // namespace splat

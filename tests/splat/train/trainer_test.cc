@@ -74,6 +74,33 @@ TEST(Trainer, ResumeGivesTheSameParametersAsAnUninterruptedRun) {
       << "resumed run differs from the uninterrupted one";
 }
 
+TEST(Trainer, ExposureCompensationResumesExactlyAndLearnsTransforms) {
+  TempDir dir;
+  TrainOptions o = quick_options();
+  o.exposure.enabled = true;
+  Trainer straight(tiny_scene(), o);
+  straight.initialize_from_sfm();
+  straight.train_until(120);
+  ASSERT_TRUE(straight.compensates_exposure());
+
+  Trainer first(tiny_scene(), o);
+  first.initialize_from_sfm();
+  first.train_until(60);
+  first.save_checkpoint(dir / "ckpt");
+  // The checkpoint keeps compensation on, even for a run not asking for it.
+  Trainer resumed(tiny_scene(), quick_options());
+  resumed.load_checkpoint(dir / "ckpt");
+  ASSERT_TRUE(resumed.compensates_exposure());
+  resumed.train_until(120);
+  EXPECT_TRUE(resumed.model() == straight.model());
+  size_t moved = 0;
+  for (size_t v = 0; v < straight.exposure().size(); ++v) {
+    EXPECT_EQ(resumed.exposure().params(v), straight.exposure().params(v));
+    moved += straight.exposure().params(v) != ViewColorTransforms(1).params(0);
+  }
+  EXPECT_GT(moved, 0u);  // training views' transforms were learned
+}
+
 TEST(Trainer, SameSeedSameModel) {
   Trainer a(tiny_scene(), quick_options()), b(tiny_scene(), quick_options());
   a.initialize_from_sfm();
