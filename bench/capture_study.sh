@@ -13,7 +13,9 @@
 # spaces: clean=  exposure=--exposure,0.25,--white-balance,0.03
 # Variants (VARIANTS, default "plain"): plain (the paper's recipe), joined
 # (op2gs-vote --join-switched-ids), exposure (op2gs-train
-# --exposure-compensation), exposure+joined.
+# --exposure-compensation), exposure+joined; and for the sensitivity study,
+# one value changed from the paper's: lambda-<lambda_o>, m-<M>, tau-<tau>,
+# init-<sigma* of every Gaussian at the start of stage two>.
 # Environment: SCALE (schedule divisor), SYNTH (extra op2gs-synth options for
 # every condition, e.g. "--width 640 --height 480 --views 60").
 set -euo pipefail
@@ -40,9 +42,13 @@ for condition in "$@"; do
     [ -d "$dir/scene" ] || "$bin/op2gs-synth" "$dir/scene" --seed "$seed" ${SYNTH:-} ${options//,/ } \
       > "$dir/synth.log" 2>&1
     for variant in $variants; do
-      train_options=() vote_options=()
+      train_options=() vote_options=() learn_options=() render_options=()
       case "$variant" in
         plain) ;;
+        lambda-*) learn_options=(--lambda-o "${variant#lambda-}") ;;
+        m-*) learn_options=(--objects-per-step "${variant#m-}") ;;
+        tau-*) render_options=(--tau "${variant#tau-}") ;;
+        init-*) learn_options=(--sigma-star-init "${variant#init-}") ;;
         joined) vote_options=(--join-switched-ids) ;;
         exposure) train_options=(--exposure-compensation) ;;
         exposure+joined)
@@ -63,8 +69,9 @@ for condition in "$@"; do
       cp -r "$one" "$work"
       echo "== $name seed $seed: $variant"
       quiet "$bin/op2gs-vote" "$dir/scene" "$work" "${vote_options[@]}"
-      quiet "$bin/op2gs-learn" "$dir/scene" "$work" --iterations "$total" --schedule "$total"
-      quiet "$bin/op2gs-render" "$dir/scene" "$work"
+      quiet "$bin/op2gs-learn" "$dir/scene" "$work" --iterations "$total" --schedule "$total" \
+        "${learn_options[@]}"
+      quiet "$bin/op2gs-render" "$dir/scene" "$work" "${render_options[@]}"
       "$bin/op2gs-eval" "$dir/scene" --pred dual-opacity="$work/render/masks" \
         --pred baseline="$work/render/baseline_labels" --out "$work/metrics.json" > /dev/null 2>&1
       python3 - "$name" "$seed" "$variant" "$work" "$one" >> "$out/results.jsonl" <<'PY'

@@ -47,6 +47,9 @@ int main(int argc, char** argv) {
                  "ID map folder inside the scene (auto: object_mask/ for LERF-Mask, sam2/ for "
                  "photos, whichever exists)")
       ->capture_default_str();
+  app.add_option("--sigma-star-init", o.train.instance_opacity_init,
+                 "initial sigma* of every Gaussian in (0, 1); default: each Gaussian's sigma "
+                 "(the paper)");
   app.add_option("--lr-instance-opacity", o.train.lr_instance_opacity,
                  "learning rate of sigma* (as a logit)")
       ->capture_default_str();

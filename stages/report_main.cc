@@ -41,6 +41,8 @@ int main(int argc, char** argv) {
       s.render = work.render();
       s.curves = {work.stage_one().curve(), work.stage_two().curve()};
       s.queries = work.query_results();
+      s.training_metrics = work.stage_two().metrics();
+      s.floaters = work.root / "floaters.json";
       if (fs::exists(work.sfm_scene())) s.viewer_scene = work.sfm_scene();
       if (fs::exists(work.stage_two().latest_checkpoint())) {
         s.model = work.stage_two().latest_checkpoint();

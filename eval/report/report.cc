@@ -380,6 +380,63 @@ std::map<std::pair<std::string, std::string>, std::pair<int, double>> row_views(
   return out;
 }
 
+// Floaters and label contamination (op2gs-floaters), when measured.
+std::vector<Table> floater_tables(const SceneReportInput& in) {
+  if (in.floaters.empty() || !fs::exists(in.floaters)) return {};
+  const json f = json::parse(splat::read_text_file(in.floaters));
+  const auto pct = [](const json& v) { return fmt::format("{:.1f}%", 100 * v.get<double>()); };
+  Table summary{fmt::format("Floaters (farther than {} from every true surface) and wrongly "
+                            "labelled Gaussians; shares of the test views' rendered opacity "
+                            "and of the object masks' occupancy",
+                            f.at("distance").get<double>()),
+                {"measure", "value"},
+                {}};
+  const size_t n = std::max<size_t>(f.at("gaussians").get<size_t>(), 1);
+  summary.rows = {
+      {"Gaussians", std::to_string(f.at("gaussians").get<size_t>())},
+      {"floaters", fmt::format("{} ({:.1f}%)", f.at("floaters").get<size_t>(),
+                               100.0 * f.at("floaters").get<size_t>() / n)},
+      {"floaters in the object region", std::to_string(f["region"]["floaters"].get<size_t>())},
+      {"floaters with an object label", std::to_string(f.at("floaters_labelled").get<size_t>())},
+      {"picture opacity from floaters", pct(f.at("floater_opacity_share"))},
+      {"... from floaters in the object region", pct(f["region"]["floater_opacity_share"])},
+      {"mask occupancy from floaters, sigma / sigma*",
+       pct(f["mask_floater_share"]["sigma"]) + " / " + pct(f["mask_floater_share"]["sigma_star"])},
+      {"mask occupancy from wrong labels, sigma / sigma*",
+       pct(f["mask_wrong_share"]["sigma"]) + " / " + pct(f["mask_wrong_share"]["sigma_star"])}};
+  Table objects{
+      "Per object: its Gaussians labelled otherwise, the Gaussians wrongly carrying its "
+      "label (floaters, on a border with another object), and their mean opacities",
+      {"object", "Gaussians", "labelled otherwise", "wrongly labelled", "floaters", "border",
+       "sigma right / wrong", "sigma* right / wrong"},
+      {}};
+  for (const json& o : f.at("objects")) {
+    objects.rows.push_back({o.value("name", std::to_string(o.at("id").get<int>())),
+                            std::to_string(o.at("gaussians").get<size_t>()),
+                            std::to_string(o.at("wrong").get<size_t>()),
+                            std::to_string(o.at("labelled_wrongly").get<size_t>()),
+                            std::to_string(o.at("labelled_floaters").get<size_t>()),
+                            std::to_string(o.at("labelled_border").get<size_t>()),
+                            fmt::format("{:.2f} / {:.2f}", o["sigma"]["right"].get<double>(),
+                                        o["sigma"]["wrong"].get<double>()),
+                            fmt::format("{:.2f} / {:.2f}", o["sigma_star"]["right"].get<double>(),
+                                        o["sigma_star"]["wrong"].get<double>())});
+  }
+  return {summary, objects};
+}
+
+// The colour-fitted test PSNR of stage two, when its metrics are given.
+std::string fitted_psnr_note(const SceneReportInput& in) {
+  if (in.training_metrics.empty() || !fs::exists(in.training_metrics)) return "";
+  const json m = json::parse(splat::read_text_file(in.training_metrics));
+  if (!m.contains("psnr_fitted_right_half") || !m["psnr_fitted_right_half"].is_number()) return "";
+  return fmt::format(
+      "Test PSNR after a colour transform fitted on each test view's left half, scored on its "
+      "right half (NeRF in the Wild's protocol for models that compensate exposure): {:.2f} dB "
+      "(without the fit, whole views: {:.2f} dB).",
+      m["psnr_fitted_right_half"].get<double>(), m.value("psnr", NAN));
+}
+
 std::string scene_figures(const SceneData& s, int width) {
   const bool on_ovs = s.protocol.find("3dovs") != std::string::npos;
   const LerfMaskGroundTruth gt = on_ovs ? lerf_mask_from_ovs(read_ovs_ground_truth(s.input.scene))
@@ -510,7 +567,15 @@ ReportFiles write_report(const fs::path& out, const ReportOptions& o) {
       md += q + "\n\n";
       html += "<p>" + q + "</p>\n";
     }
+    if (const std::string fitted = fitted_psnr_note(s.input); !fitted.empty()) {
+      md += fitted + "\n\n";
+      html += "<p>" + html_escape(fitted) + "</p>\n";
+    }
     if (o.viewer && !s.input.model.empty()) add_viewer(out, s.input, md, html);
+    for (const Table& t : floater_tables(s.input)) {
+      md += to_markdown(t);
+      html += to_html(t);
+    }
     const Table queries = query_table(s);
     md += to_markdown(queries);
     html += to_html(queries);

@@ -10,7 +10,9 @@
 //   - figures: per test view and query, the photo, the ground truth, and each
 //     prediction's mask coloured by error (green: right, red: predicted but
 //     not true, blue: true but missed); the instance label map; the training
-//     curves.
+//     curves;
+//   - for synthetic scenes measured by op2gs-floaters: floaters and wrongly
+//     labelled Gaussians, and their share of the picture and of the masks.
 
 #include <filesystem>
 #include <string>
@@ -30,6 +32,9 @@ struct SceneReportInput {
   // Optional: the 3D viewer's inputs (viewer.h): the scene folder the stages
   // read (cameras), stage two's model, and the same model's PLY.
   std::filesystem::path viewer_scene = {}, model = {}, model_ply = {};
+  // Optional: stage two's metrics.json (the colour-fitted test PSNR) and
+  // op2gs-floaters' report (synthetic scenes: floaters and contamination).
+  std::filesystem::path training_metrics = {}, floaters = {};
 };
 
 struct ReportOptions {

@@ -25,6 +25,8 @@ void TrainOptions::Check() const {
   if (sh_degree < 0 || sh_degree > 3) fail("sh_degree must be 0..3");
   if (sh_increase_every < 1) fail("sh_increase_every must be >= 1");
   exposure.Check();
+  if (instance_opacity_init >= 1 || (instance_opacity_init >= 0 && instance_opacity_init <= 0))
+    fail("the initial instance opacity must be in (0, 1), or negative for sigma's");
   if (densify_every < 1 || opacity_reset_every < 1) fail("densification intervals must be >= 1");
   for (float lr : {lr_position_init, lr_position_final, lr_sh_dc, lr_sh_rest, lr_opacity, lr_scale,
                    lr_rotation, lr_instance_opacity})
@@ -61,6 +63,9 @@ void Trainer::start_instance_learning(const std::vector<int32_t>& labels) {
   model_.labels = labels;
   model_.has_labels = true;
   model_.instance_opacity_logits = model_.opacity_logits;  // sigma* starts as sigma
+  if (options_.instance_opacity_init >= 0)
+    std::fill(model_.instance_opacity_logits.begin(), model_.instance_opacity_logits.end(),
+              logit(options_.instance_opacity_init));
   model_.has_instance_opacity = true;
   adam_.reset_moments(ParamGroup::kInstanceOpacity);
   if (options_.object_loss.weight <= 0) return;

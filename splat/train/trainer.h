@@ -50,6 +50,9 @@ struct TrainOptions {
   float lr_scale = 5e-3f;
   float lr_rotation = 1e-3f;
   float lr_instance_opacity = 0.05f;  // sigma*, once stage two has added it
+  // sigma* at the start of stage two: < 0 from sigma (the paper), else this
+  // value for every Gaussian (the initialisation's sensitivity study).
+  float instance_opacity_init = -1;
   ImageLossOptions loss;
   ObjectLossOptions object_loss;  // stage two: lambda_o > 0
 

@@ -59,6 +59,48 @@ TEST(Report, WritesHtmlAndMarkdownWithTheScenesFigures) {
   EXPECT_EQ(html.find("href=\"http"), std::string::npos);
 }
 
+TEST(Report, ShowsFloatersAndTheColourFittedPsnrWhenMeasured) {
+  const testing_util::TempDir tmp;
+  const nlohmann::json floaters = {
+      {"distance", 0.05},
+      {"gaussians", 1000},
+      {"floaters", 120},
+      {"floater_share", 0.12},
+      {"floaters_labelled", 7},
+      {"region", {{"gaussians", 600}, {"floaters", 40}, {"floater_opacity_share", 0.031}}},
+      {"views", 5},
+      {"floater_opacity_share", 0.083},
+      {"mask_floater_share", {{"sigma", 0.021}, {"sigma_star", 0.004}}},
+      {"mask_wrong_share", {{"sigma", 0.061}, {"sigma_star", 0.017}}},
+      {"objects",
+       {{{"id", 1},
+         {"name", "red ball"},
+         {"gaussians", 300},
+         {"wrong", 4},
+         {"labelled", 310},
+         {"labelled_wrongly", 14},
+         {"labelled_floaters", 3},
+         {"labelled_border", 9},
+         {"sigma", {{"right", 0.8}, {"wrong", 0.6}}},
+         {"sigma_star", {{"right", 0.85}, {"wrong", 0.1}}}}}}};
+  splat::write_text_atomically(tmp / "floaters.json", floaters.dump());
+  splat::write_text_atomically(tmp / "learn.json",
+                               R"({"psnr": 24.5, "psnr_fitted_right_half": 27.25})");
+  ReportOptions o;
+  SceneReportInput s{"tiny", scored().scene, scored().metrics, {}, {}, {}};
+  s.floaters = tmp / "floaters.json";
+  s.training_metrics = tmp / "learn.json";
+  o.scenes = {s};
+  const std::string md = splat::read_text_file(write_report(tmp / "report", o).markdown);
+  EXPECT_NE(md.find("| floaters | 120 (12.0%) |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| mask occupancy from wrong labels, sigma / sigma* | 6.1% / 1.7% |"),
+            std::string::npos);
+  EXPECT_NE(md.find("| red ball | 300 | 4 | 14 | 3 | 9 | 0.80 / 0.60 | 0.85 / 0.10 |"),
+            std::string::npos);
+  EXPECT_NE(md.find("27.25 dB"), std::string::npos);
+  EXPECT_NE(md.find("NeRF in the Wild"), std::string::npos);
+}
+
 TEST(Report, SaysWhichTestViewsHaveNoGroundTruth) {
   const testing_util::TempDir tmp;
   nlohmann::json m = nlohmann::json::parse(splat::read_text_file(scored().metrics));
