@@ -5,15 +5,16 @@
 # down by SCALE, default 4: 7,500 iterations), then for each variant voting,
 # stage two, rendering and op2gs-eval in oracle mode. One line of JSON per
 # (condition, seed, variant) is appended to <out>/results.jsonl with test
-# PSNR, baseline and dual-opacity mIoU / mBIoU and their per-object IoU.
+# PSNR (and the colour-fitted right-half PSNR), baseline and dual-opacity
+# mIoU / mBIoU and their per-object IoU, and op2gs-floaters' figures.
 #
 #   bench/capture_study.sh <build dir> <out dir> <seeds> <condition>...
 #
 # A condition is a name and op2gs-synth options, name=options with commas for
 # spaces: clean=  exposure=--exposure,0.25,--white-balance,0.03
 # Variants (VARIANTS, default "plain"): plain (the paper's recipe), joined
-# (op2gs-vote --join-switched-ids), exposure (op2gs-train
-# --exposure-compensation), exposure+joined; and for the sensitivity study,
+# (op2gs-vote --join-switched-ids), tracks (and --find-merges), exposure
+# (op2gs-train --exposure-compensation), exposure+joined, exposure+tracks; and for the sensitivity study,
 # one value changed from the paper's: lambda-<lambda_o>, m-<M>, tau-<tau>,
 # init-<sigma* of every Gaussian at the start of stage two>.
 # Environment: SCALE (schedule divisor), SYNTH (extra op2gs-synth options for
@@ -55,6 +56,11 @@ for condition in "$@"; do
           train_options=(--exposure-compensation)
           vote_options=(--join-switched-ids)
           ;;
+        tracks) vote_options=(--join-switched-ids --find-merges) ;;
+        exposure+tracks)
+          train_options=(--exposure-compensation)
+          vote_options=(--join-switched-ids --find-merges)
+          ;;
         *) echo "unknown variant $variant" >&2; exit 2 ;;
       esac
       # Variants that train alike share stage one.
@@ -74,6 +80,7 @@ for condition in "$@"; do
       quiet "$bin/op2gs-render" "$dir/scene" "$work" "${render_options[@]}"
       "$bin/op2gs-eval" "$dir/scene" --pred dual-opacity="$work/render/masks" \
         --pred baseline="$work/render/baseline_labels" --out "$work/metrics.json" > /dev/null 2>&1
+      "$bin/op2gs-floaters" "$dir/scene" "$work" > /dev/null 2>&1
       python3 - "$name" "$seed" "$variant" "$work" "$one" >> "$out/results.jsonl" <<'PY'
 import json, sys
 name, seed, variant, work, one = sys.argv[1:]
@@ -84,7 +91,14 @@ line = {
     "condition": name, "seed": int(seed), "variant": variant,
     "psnr_stage_one": json.load(open(f"{one}/metrics.json"))["psnr"],
     "psnr": json.load(open(f"{work}/learn/metrics.json"))["psnr"],
+    "psnr_fitted": json.load(open(f"{work}/learn/metrics.json")).get("psnr_fitted_right_half"),
 }
+f = json.load(open(f"{work}/floaters.json"))
+line["floaters"] = {
+    "share": f["floater_share"], "region": f["region"]["floaters"],
+    "opacity_share": f["floater_opacity_share"],
+    "region_opacity_share": f["region"]["floater_opacity_share"],
+    "mask_wrong_share": f["mask_wrong_share"], "mask_floater_share": f["mask_floater_share"]}
 for k in ("dual-opacity", "baseline"):
     line[k] = {"miou": round(100 * m[k]["miou"], 2), "mbiou": round(100 * m[k]["mbiou"], 2),
                "objects": objects(m[k])}

@@ -59,6 +59,17 @@ int main(int argc, char** argv) {
     const splat::WorkLayout w{work};
     o.start_checkpoint = stages::or_default(checkpoint, w.stage_one().latest_checkpoint());
     o.labels_model = stages::or_default(labels, w.labelled_model());
+    // The track IDs op2gs-vote joined (--join-switched-ids) are one object
+    // here too, and the segments it found covering two objects are not used.
+    splat::read_id_corrections(w.vote() / "summary.json", o.train.object_loss);
+    if (!o.train.object_loss.id_remap.empty() || !o.train.object_loss.ignored_ids.empty())
+      spdlog::info("the ID maps as op2gs-vote corrected them: {} IDs joined, {} segments unused",
+                   o.train.object_loss.id_remap.size(), [&] {
+                     size_t n = 0;
+                     for (const auto& [view, ids] : o.train.object_loss.ignored_ids)
+                       n += ids.size();
+                     return n;
+                   }());
     if (!o.resume) {
       if (!std::filesystem::exists(o.start_checkpoint))
         throw splat::InputError(o.start_checkpoint, "no stage-one checkpoint (run op2gs-train)");

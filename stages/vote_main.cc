@@ -31,6 +31,9 @@ int main(int argc, char** argv) {
   app.add_flag("--join-switched-ids", o.join_switched_ids,
                "join the IDs a video segmenter gave one object after losing its track (IDs "
                "never seen together that label the same Gaussians) before the majority vote");
+  app.add_flag("--find-merges", o.find_merges,
+               "find the views' segments that cover a second object (a segmenter's merge) for "
+               "op2gs-learn to leave out (a second pass over the views)");
   app.add_option("--id-association", o.track_ids.min_association,
                  "with --join-switched-ids: the least share of views in which one ID's "
                  "Gaussians carry the other")

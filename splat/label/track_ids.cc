@@ -1,9 +1,13 @@
 #include "splat/label/track_ids.h"
 
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <set>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace splat {
 
@@ -47,6 +51,9 @@ void TrackIdOptions::Check() const {
     throw std::invalid_argument("the share of views seen together must be in [0, 1)");
   if (!(min_segment_share >= 0 && min_segment_share < 1))
     throw std::invalid_argument("the least segment share must be in [0, 1)");
+  if (!(min_covered_share > 0 && min_covered_share <= 1))
+    throw std::invalid_argument("the covered share must be in (0, 1]");
+  if (min_visible < 1) throw std::invalid_argument("min_visible must be >= 1");
 }
 
 namespace {
@@ -131,6 +138,49 @@ TrackIdResult find_switched_ids(const LabelVotes::IdAssociation& association,
     result.groups.push_back(std::move(g));
   }
   return result;
+}
+
+std::vector<MergedSegment> find_merged_segments(const GaussianModel& model,
+                                                const std::vector<int32_t>& labels,
+                                                const Camera& camera, const IdMap& ids,
+                                                const DepthMap* depth, const VoteOptions& vote,
+                                                const std::map<int32_t, int32_t>& canonical,
+                                                const TrackIdOptions& o) {
+  const CentreVisibility visibility(camera, depth, vote);
+  // Per (segment ID, label): the visible Gaussians; per label: all of them.
+  using Counts = std::unordered_map<uint64_t, uint32_t>;
+  tbb::combinable<std::pair<Counts, Counts>> local;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, model.size(), 16384), [&](const auto& range) {
+    auto& [pairs, visible] = local.local();
+    int x, y;
+    float z;
+    for (size_t j = range.begin(); j < range.end(); ++j) {
+      const int32_t label = labels[j];
+      if (label == 0 || !visibility.test(&model.means[3 * j], x, y, z)) continue;
+      int32_t id = ids.at(x, y);
+      if (const auto it = canonical.find(id); it != canonical.end()) id = it->second;
+      ++visible[uint32_t(label)];
+      if (id != 0 && id != label) ++pairs[uint64_t(uint32_t(id)) << 32 | uint32_t(label)];
+    }
+  });
+  Counts pairs, visible;
+  local.combine_each([&](const std::pair<Counts, Counts>& c) {
+    for (const auto& [k, n] : c.first) pairs[k] += n;
+    for (const auto& [k, n] : c.second) visible[k] += n;
+  });
+  std::map<int32_t, std::vector<int32_t>> covers;
+  for (const auto& [key, n] : pairs) {
+    const int32_t id = int32_t(key >> 32), label = int32_t(key & 0xFFFFFFFFu);
+    const uint32_t seen = visible[uint32_t(label)];
+    if (seen >= uint32_t(o.min_visible) && double(n) >= o.min_covered_share * seen)
+      covers[id].push_back(label);
+  }
+  std::vector<MergedSegment> out;
+  for (auto& [id, labels_covered] : covers) {
+    std::sort(labels_covered.begin(), labels_covered.end());
+    out.push_back({id, labels_covered});
+  }
+  return out;
 }
 
 }  // namespace splat

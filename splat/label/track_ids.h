@@ -17,9 +17,13 @@
 // keeps the ID with the most votes.
 //
 // The opposite error, one ID covering two touching objects for a while (a
-// merge), needs nothing here: the two objects are seen apart in most views,
-// so each Gaussian's majority stays its own object's unless the merge lasts
-// most of the sequence.
+// merge), leaves the vote alone: the two objects are seen apart in most
+// views, so each Gaussian's majority stays its own object's unless the merge
+// lasts most of the sequence. It harms stage two instead, whose object loss
+// would teach the segment's object to cover the other one. Once the labels
+// are known, find_merged_segments finds such segments: in one view, an ID
+// whose segment holds most of another object's visible Gaussians. Stage two
+// then does not sample that ID in that view.
 
 #include <cstdint>
 #include <map>
@@ -57,6 +61,10 @@ struct TrackIdOptions {
   double max_together = 0.05;
   // Segments below this share of a view's pixels do not count as appearing.
   double min_segment_share = 5e-4;
+  // A segment covers another object when it holds at least this share of the
+  // object's Gaussians visible in the view (and at least min_visible of them).
+  double min_covered_share = 0.5;
+  int min_visible = 20;
 
   void Check() const;  // throws std::invalid_argument with a one-line message
 };
@@ -75,5 +83,19 @@ struct TrackIdResult {
 };
 TrackIdResult find_switched_ids(const LabelVotes::IdAssociation& association,
                                 const IdCooccurrence& cooccurrence, const TrackIdOptions& options);
+
+// One view's segment that covers another object too.
+struct MergedSegment {
+  int32_t id = 0;               // the segment's ID, after the canonical mapping
+  std::vector<int32_t> covers;  // the other objects' labels
+};
+// labels: the voted label of every Gaussian; ids: the view's ID map (the
+// camera's size), read through `canonical`; depth and vote as for voting.
+std::vector<MergedSegment> find_merged_segments(const GaussianModel& model,
+                                                const std::vector<int32_t>& labels,
+                                                const Camera& camera, const IdMap& ids,
+                                                const DepthMap* depth, const VoteOptions& vote,
+                                                const std::map<int32_t, int32_t>& canonical,
+                                                const TrackIdOptions& options);
 
 }  // namespace splat

@@ -312,6 +312,24 @@ void join_switched_ids(LabelVotes& votes, const IdCooccurrence& cooccurrence,
   result.joined_ids = joined.groups;
 }
 
+// The segments that cover a second object, per training view (track_ids.h).
+json merged_segments_json(VotingRun& run, const std::vector<int32_t>& labels,
+                          const std::map<int32_t, int32_t>& canonical, VoteRunResult& result) {
+  json out = json::array();
+  RenderStatePool states;
+  for (size_t v : run.used) {
+    PreparedView p;
+    prepare_view(run, v, states, p);
+    for (const MergedSegment& m : find_merged_segments(run.stage_one.model, labels, p.camera, p.ids,
+                                                       run.cull() ? &p.depth : nullptr, run.o.vote,
+                                                       canonical, run.o.track_ids))
+      out.push_back({{"view", run.scene->views()[v].name}, {"id", m.id}, {"covers", m.covers}});
+  }
+  result.merged_segments = out.size();
+  spdlog::info("{} segments cover a second object (merges); stage two leaves them out", out.size());
+  return out;
+}
+
 json joined_ids_json(const std::vector<JoinedIds>& groups) {
   json j = json::array();
   for (const JoinedIds& g : groups) j.push_back({{"kept", g.kept}, {"joined", g.joined}});
@@ -359,6 +377,14 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const V
   summary["visibility"] = run.cull() ? "depth" : "frustum";
   summary["depth_tolerance"] = o.vote.depth_tolerance;
   if (o.join_switched_ids) summary["joined_ids"] = joined_ids_json(result.joined_ids);
+  if (o.find_merges) {
+    std::map<int32_t, int32_t> canonical;
+    for (const JoinedIds& g : result.joined_ids)
+      for (int32_t id : g.joined) canonical[id] = g.kept;
+    reorder_gaussians(model, order);  // the voting pass's order, again
+    summary["merged_segments"] = merged_segments_json(run, model.labels, canonical, result);
+    reorder_gaussians(model, inverse_order(order));
+  }
 
   write_previews(run, out);
   if (o.baseline_maps) summary["baseline_views"] = write_baseline_maps(run, out);

@@ -38,6 +38,9 @@ struct VoteRunOptions {
   // Join the IDs a video segmenter gave one object after losing its track
   // (track_ids.h) before taking the majority. Off: the paper's plain vote.
   bool join_switched_ids = false;
+  // Find the segments that cover a second object (a merge; track_ids.h) for
+  // stage two to leave out: a second pass over the views.
+  bool find_merges = false;
   TrackIdOptions track_ids;
 
   void Check() const;  // throws std::invalid_argument with a one-line message
@@ -52,6 +55,7 @@ struct VoteRunResult {
   double unseen_share = 0;            // Gaussians visible in no view (labelled 0)
   double vote_agreement = 0;          // mean share of a Gaussian's votes that its label got
   std::vector<JoinedIds> joined_ids;  // with join_switched_ids
+  size_t merged_segments = 0;         // with find_merges
   double seconds = 0;
 };
 

@@ -2,11 +2,36 @@
 
 #include <algorithm>
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "splat/atomic_file.h"
+#include "splat/error.h"
 #include "splat/id_maps.h"
 
 namespace splat {
+
+void read_id_corrections(const std::filesystem::path& file, ObjectLossOptions& o) {
+  if (!std::filesystem::exists(file)) return;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(read_text_file(file));
+    if (j.contains("joined_ids"))
+      for (const auto& g : j.at("joined_ids"))
+        for (const auto& id : g.at("joined"))
+          o.id_remap[id.get<int32_t>()] = g.at("kept").get<int32_t>();
+    if (j.contains("merged_segments"))
+      for (const auto& m : j.at("merged_segments"))
+        o.ignored_ids[m.at("view").get<std::string>()].push_back(m.at("id").get<int32_t>());
+  } catch (const std::exception& e) {
+    throw InputError(file, std::string("not op2gs-vote's summary: ") + e.what());
+  }
+}
+
+void remap_ids(IdMap& ids, const std::map<int32_t, int32_t>& id_remap) {
+  if (id_remap.empty()) return;
+  for (uint16_t& id : ids.ids)
+    if (const auto it = id_remap.find(id); it != id_remap.end()) id = uint16_t(it->second);
+}
 
 void ObjectLossOptions::Check() const {
   if (!(weight >= 0)) throw std::invalid_argument("the object loss weight must be >= 0");

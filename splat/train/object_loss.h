@@ -7,6 +7,8 @@
 //   L_obj = 1/M sum_j  mean_v  -[B_j log S_j + (1 - B_j) log(1 - S_j)].
 
 #include <cstdint>
+#include <filesystem>
+#include <map>
 #include <random>
 #include <span>
 #include <string>
@@ -22,8 +24,22 @@ struct ObjectLossOptions {
   // Folder of ID maps inside the scene; "auto": the one the scene's layout
   // prefers among those present (dataset_layout.h).
   std::string id_maps = "auto";
-  void Check() const;  // throws std::invalid_argument
+  // Corrections of the maps' track IDs found by op2gs-vote (its summary.json,
+  // read_id_corrections): IDs counted as another (one object's lost and
+  // re-found track), and per view the IDs not sampled there (a segment that
+  // covered another object too).
+  std::map<int32_t, int32_t> id_remap;
+  std::map<std::string, std::vector<int32_t>> ignored_ids;  // by view name
+  void Check() const;                                       // throws std::invalid_argument
 };
+
+// Fills the corrections from op2gs-vote's summary.json ("joined_ids",
+// "merged_segments"); a summary without them leaves the options as they are.
+// Throws InputError naming the file when it is malformed.
+void read_id_corrections(const std::filesystem::path& vote_summary, ObjectLossOptions& options);
+
+// The map with the corrections applied to its pixels (id_remap).
+void remap_ids(IdMap& ids, const std::map<int32_t, int32_t>& id_remap);
 
 // The object IDs (not 0) that occur in a map, ascending.
 std::vector<int32_t> objects_in_map(const IdMap& ids);

@@ -94,7 +94,13 @@ const Trainer::ObjectMap& Trainer::object_map(size_t view) {
     const fs::path file = require_id_map(id_map_folder(), v.name);
     auto m = std::make_unique<ObjectMap>();
     m->ids = read_id_map_for_view(file, v.camera.width, v.camera.height);
+    remap_ids(m->ids, options_.object_loss.id_remap);
     m->objects = objects_in_map(m->ids);
+    if (const auto it = options_.object_loss.ignored_ids.find(v.name);
+        it != options_.object_loss.ignored_ids.end())
+      std::erase_if(m->objects, [&](int32_t id) {
+        return std::find(it->second.begin(), it->second.end(), id) != it->second.end();
+      });
     object_maps_[view] = std::move(m);
   }
   return *object_maps_[view];

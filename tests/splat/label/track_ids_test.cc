@@ -106,6 +106,39 @@ TEST(TrackIds, AGroupTakesNoIdSeenWithOneOfItsMembers) {
   EXPECT_EQ(r.groups[0].joined, std::vector<int32_t>{3});
 }
 
+TEST(TrackIds, ASegmentCoveringAnotherObjectIsFound) {
+  // 40 Gaussians: 0-19 object 1, 20-39 object 2 (16 columns per pixel band).
+  Row row(16);
+  GaussianModel model;
+  for (int copy = 0; copy < 3; ++copy) {  // three Gaussians per column: enough to count
+    const size_t n = model.size();
+    model.resize(n + row.model.size());
+    std::copy(row.model.means.begin(), row.model.means.end(), model.means.begin() + 3 * long(n));
+  }
+  std::vector<int32_t> labels;
+  for (int copy = 0; copy < 3; ++copy)
+    for (int j = 0; j < 16; ++j) labels.push_back(j < 8 ? 1 : 2);
+  TrackIdOptions o;
+  o.min_visible = 10;
+  const std::vector<uint16_t> apart = {1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 2, 2, 2, 2, 2, 2};
+  std::vector<uint16_t> merged = apart;
+  std::fill(merged.begin() + 8, merged.begin() + 14, 1);  // 1 spills over most of 2
+  EXPECT_TRUE(
+      find_merged_segments(model, labels, row.camera, row.view(apart), nullptr, frustum(), {}, o)
+          .empty());
+  const auto found =
+      find_merged_segments(model, labels, row.camera, row.view(merged), nullptr, frustum(), {}, o);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].id, 1);
+  EXPECT_EQ(found[0].covers, std::vector<int32_t>{2});
+  // A switched ID that names object 1 is read as 1 first: no merge.
+  std::vector<uint16_t> switched = apart;
+  std::fill(switched.begin(), switched.begin() + 8, 7);
+  EXPECT_TRUE(find_merged_segments(model, labels, row.camera, row.view(switched), nullptr,
+                                   frustum(), {{7, 1}}, o)
+                  .empty());
+}
+
 TEST(TrackIds, SpecksDoNotCountAsSeen) {
   IdMap m(100, 100);
   for (int i = 0; i < 2000; ++i) m.ids[size_t(i)] = 1;

@@ -7,6 +7,8 @@
 
 #include <cmath>
 
+#include "splat/atomic_file.h"
+#include "splat/error.h"
 #include "splat/image_quality.h"
 #include "splat/render/renderer.h"
 #include "splat/train/adam.h"
@@ -128,6 +130,30 @@ TEST(ObjectLoss, MislabelledFloaterLosesInstanceOpacityButKeepsItsColour) {
   const RenderOutput after = renderer.render(m, cam, colour);
   EXPECT_GT(psnr(after.color, target.data), 30.0);
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(after.color[3 * fp + k], before.color[3 * fp + k], 0.05f);
+}
+
+TEST(ObjectLoss, TheVotesTrackCorrectionsAreRead) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("op2gs-corrections-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  write_text_atomically(dir / "summary.json", R"({"joined_ids": [{"kept": 2, "joined": [11, 14]}],
+      "merged_segments": [{"view": "frame_00003.png", "id": 5, "covers": [8]}]})");
+  ObjectLossOptions o;
+  read_id_corrections(dir / "summary.json", o);
+  EXPECT_EQ(o.id_remap, (std::map<int32_t, int32_t>{{11, 2}, {14, 2}}));
+  EXPECT_EQ(o.ignored_ids.at("frame_00003.png"), std::vector<int32_t>{5});
+  IdMap m(2, 1);
+  m.ids = {11, 3};
+  remap_ids(m, o.id_remap);
+  EXPECT_EQ(m.ids, (std::vector<uint16_t>{2, 3}));
+  // A summary without corrections changes nothing; a broken one is named.
+  ObjectLossOptions plain;
+  write_text_atomically(dir / "plain.json", R"({"gaussians": 3})");
+  read_id_corrections(dir / "plain.json", plain);
+  EXPECT_TRUE(plain.id_remap.empty() && plain.ignored_ids.empty());
+  write_text_atomically(dir / "bad.json", R"({"joined_ids": [{"kept": "x"}]})");
+  EXPECT_THROW(read_id_corrections(dir / "bad.json", plain), InputError);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
