@@ -101,9 +101,14 @@ TrackIdResult find_switched_ids(const LabelVotes::IdAssociation& association,
     int32_t a, b;
   };
   std::vector<Candidate> candidates;
+  TrackIdResult result;
   for (const auto& [pair, shared] : association.shared) {
     const auto [a, b] = pair;
     const double strength = std::max(association.association(a, b), association.association(b, a));
+    if (strength >= 0.1)
+      result.pairs.push_back({a, b, association.association(a, b), association.association(b, a),
+                              cooccurrence.together(a, b), cooccurrence.views(a),
+                              cooccurrence.views(b)});
     if (strength >= o.min_association && apart(a, b)) candidates.push_back({strength, a, b});
   }
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
@@ -119,7 +124,6 @@ TrackIdResult find_switched_ids(const LabelVotes::IdAssociation& association,
       for (int32_t y : groups.members(rb)) compatible = compatible && apart(x, y);
     if (compatible) groups.join(ra, rb);
   }
-  TrackIdResult result;
   const auto votes = [&](int32_t id) {
     const auto it = association.votes.find(id);
     return it == association.votes.end() ? 0.0 : it->second;

@@ -77,9 +77,16 @@ struct JoinedIds {
 
 // The groups of IDs that name one object; `canonical` maps every joined ID
 // to the ID its group keeps (for LabelVotes::remap_ids).
+// A pair of IDs that share Gaussians, as the decision saw it (for the summary).
+struct IdPair {
+  int32_t a = 0, b = 0;
+  double a_to_b = 0, b_to_a = 0;  // association(a, b), association(b, a)
+  size_t together = 0, views_a = 0, views_b = 0;
+};
 struct TrackIdResult {
   std::vector<JoinedIds> groups;
   std::map<int32_t, int32_t> canonical;
+  std::vector<IdPair> pairs;  // every pair with an association of at least 0.1
 };
 TrackIdResult find_switched_ids(const LabelVotes::IdAssociation& association,
                                 const IdCooccurrence& cooccurrence, const TrackIdOptions& options);

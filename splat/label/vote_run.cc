@@ -310,6 +310,7 @@ void join_switched_ids(LabelVotes& votes, const IdCooccurrence& cooccurrence,
   if (joined.groups.empty()) spdlog::info("no ID names an object another ID names");
   votes.remap_ids(joined.canonical);
   result.joined_ids = joined.groups;
+  result.id_pairs = joined.pairs;
 }
 
 // The segments that cover a second object, per training view (track_ids.h).
@@ -376,7 +377,16 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const V
   summary["views_skipped"] = result.views_skipped;
   summary["visibility"] = run.cull() ? "depth" : "frustum";
   summary["depth_tolerance"] = o.vote.depth_tolerance;
-  if (o.join_switched_ids) summary["joined_ids"] = joined_ids_json(result.joined_ids);
+  if (o.join_switched_ids) {
+    summary["joined_ids"] = joined_ids_json(result.joined_ids);
+    json pairs = json::array();
+    for (const IdPair& p : result.id_pairs)
+      pairs.push_back({{"ids", {p.a, p.b}},
+                       {"association", {p.a_to_b, p.b_to_a}},
+                       {"views", {p.views_a, p.views_b}},
+                       {"views_together", p.together}});
+    summary["id_pairs"] = pairs;  // why IDs were or were not joined
+  }
   if (o.find_merges) {
     std::map<int32_t, int32_t> canonical;
     for (const JoinedIds& g : result.joined_ids)

@@ -55,6 +55,7 @@ struct VoteRunResult {
   double unseen_share = 0;            // Gaussians visible in no view (labelled 0)
   double vote_agreement = 0;          // mean share of a Gaussian's votes that its label got
   std::vector<JoinedIds> joined_ids;  // with join_switched_ids
+  std::vector<IdPair> id_pairs;       // the pairs it weighed
   size_t merged_segments = 0;         // with find_merges
   double seconds = 0;
 };
