@@ -72,11 +72,17 @@ for condition in "$@"; do
       fi
       work="$dir/$variant"
       rm -rf "$work"
-      cp -r "$one" "$work"
       echo "== $name seed $seed: $variant"
-      quiet "$bin/op2gs-vote" "$dir/scene" "$work" "${vote_options[@]}"
-      quiet "$bin/op2gs-learn" "$dir/scene" "$work" --iterations "$total" --schedule "$total" \
-        "${learn_options[@]}"
+      if [[ "$variant" == tau-* && -f "$dir/plain/learn/metrics.json" ]]; then
+        # Only the mask threshold differs: the plain run's stage two serves.
+        mkdir -p "$work"
+        cp -r "$dir/plain/learn" "$dir/plain/vote" "$one/metrics.json" "$work/"
+      else
+        cp -r "$one" "$work"
+        quiet "$bin/op2gs-vote" "$dir/scene" "$work" "${vote_options[@]}"
+        quiet "$bin/op2gs-learn" "$dir/scene" "$work" --iterations "$total" --schedule "$total" \
+          "${learn_options[@]}"
+      fi
       quiet "$bin/op2gs-render" "$dir/scene" "$work" "${render_options[@]}"
       "$bin/op2gs-eval" "$dir/scene" --pred dual-opacity="$work/render/masks" \
         --pred baseline="$work/render/baseline_labels" --out "$work/metrics.json" > /dev/null 2>&1
