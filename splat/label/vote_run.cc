@@ -300,9 +300,10 @@ size_t write_baseline_maps(const VotingRun& run, const fs::path& out) {
   return run.split.test.size();
 }
 
-// One object seen under several IDs gets one label (track_ids.h).
-void join_switched_ids(LabelVotes& votes, const IdCooccurrence& cooccurrence,
-                       const TrackIdOptions& options, VoteRunResult& result) {
+// One object seen under several IDs gets one label (track_ids.h); returns
+// the ID each joined ID now counts as.
+std::map<int32_t, int32_t> join_switched_ids(LabelVotes& votes, const IdCooccurrence& cooccurrence,
+                                             const TrackIdOptions& options, VoteRunResult& result) {
   const TrackIdResult joined = find_switched_ids(votes.id_association(), cooccurrence, options);
   for (const JoinedIds& g : joined.groups)
     spdlog::info("ID {} and {} name one object (a lost and re-found track): joined as {}", g.kept,
@@ -311,6 +312,7 @@ void join_switched_ids(LabelVotes& votes, const IdCooccurrence& cooccurrence,
   votes.remap_ids(joined.canonical);
   result.joined_ids = joined.groups;
   result.id_pairs = joined.pairs;
+  return joined.canonical;
 }
 
 // The segments that cover a second object, per training view (track_ids.h).
@@ -362,9 +364,13 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const V
                      "no training view's ID map holds an object ID (every pixel is "
                      "0, background): nothing to vote for");
   result.views_used = run.used.size();
-  if (o.join_switched_ids) join_switched_ids(votes, cooccurrence, o.track_ids, result);
+  std::map<int32_t, int32_t> canonical;
+  if (o.join_switched_ids) canonical = join_switched_ids(votes, cooccurrence, o.track_ids, result);
   model.labels = votes.labels();
   model.has_labels = true;
+  // Still in the voting pass's order, which the second pass wants too.
+  const json merged =
+      o.find_merges ? merged_segments_json(run, model.labels, canonical, result) : json();
 
   json summary = summary_json(model, votes, views_per_id,
                               read_object_names(run.folder / "objects.json"), result);
@@ -387,14 +393,7 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const V
                        {"views_together", p.together}});
     summary["id_pairs"] = pairs;  // why IDs were or were not joined
   }
-  if (o.find_merges) {
-    std::map<int32_t, int32_t> canonical;
-    for (const JoinedIds& g : result.joined_ids)
-      for (int32_t id : g.joined) canonical[id] = g.kept;
-    reorder_gaussians(model, order);  // the voting pass's order, again
-    summary["merged_segments"] = merged_segments_json(run, model.labels, canonical, result);
-    reorder_gaussians(model, inverse_order(order));
-  }
+  if (o.find_merges) summary["merged_segments"] = merged;
 
   write_previews(run, out);
   if (o.baseline_maps) summary["baseline_views"] = write_baseline_maps(run, out);
