@@ -27,6 +27,10 @@ struct TrainingLayout {
   std::filesystem::path checkpoints() const { return root / "checkpoints"; }
   // Resumable state, atomically replaced.
   std::filesystem::path latest_checkpoint() const { return checkpoints() / "latest.ckpt"; }
+  // A checkpoint kept at that iteration (--keep-checkpoint-at), never replaced.
+  std::filesystem::path checkpoint_at(int iteration) const {
+    return checkpoints() / ("iteration_" + std::to_string(iteration) + ".ckpt");
+  }
   std::filesystem::path point_clouds() const { return root / "point_cloud"; }
   // A standard 3DGS PLY of the model at that iteration.
   std::filesystem::path point_cloud(int iteration) const {

@@ -24,6 +24,8 @@ class TrainingCli {
     app.add_option("--checkpoint-every", o.checkpoint_every, "iterations between checkpoints")
         ->capture_default_str();
     app.add_option("--ply-at", o.ply_at, "also write a PLY at these iterations");
+    app.add_option("--keep-checkpoint-at", o.keep_checkpoint_at,
+                   "also keep the checkpoint of these iterations as checkpoints/iteration_N.ckpt");
     app.add_option("--test-at", o.test_at, "also evaluate the test views at these iterations");
     app.add_flag("--exposure-compensation", o.train.exposure.enabled,
                  "learn a colour transform per training view (exposure, white balance) applied "

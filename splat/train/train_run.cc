@@ -134,6 +134,8 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
     bar.update(s);
     if (s.iteration % o.checkpoint_every == 0 && s.iteration != o.stop_at)
       trainer.save_checkpoint(checkpoint);
+    if (is_in(o.keep_checkpoint_at, s.iteration))
+      trainer.save_checkpoint(out.checkpoint_at(s.iteration));
     if (is_in(o.ply_at, s.iteration) && s.iteration != o.stop_at) write_ply_at(trainer, out);
     if (is_in(o.test_at, s.iteration) && s.iteration != o.stop_at && !trainer.split().test.empty())
       log.record_test(s.iteration, trainer.evaluate(trainer.split().test));

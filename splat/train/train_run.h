@@ -18,7 +18,10 @@ struct TrainRunOptions {
   TrainOptions train;
   int stop_at = 20000;  // stage one ends here by default
   int checkpoint_every = 1000;
-  std::vector<int> ply_at;   // extra iterations with a PLY (the end always has one)
+  std::vector<int> ply_at;  // extra iterations with a PLY (the end always has one)
+  // Iterations whose checkpoint is also kept as checkpoints/iteration_N.ckpt,
+  // to resume from later (bench/full_schedule.sh times the schedule from them).
+  std::vector<int> keep_checkpoint_at;
   std::vector<int> test_at;  // iterations with a test evaluation (the end always has one)
   bool resume = false;       // continue from <work>/checkpoints/latest.ckpt
   // Stage two (op2gs-learn): start from this stage-one checkpoint, with the

@@ -155,6 +155,7 @@ TEST(TrainRun, WritesEveryArtifactAndResumes) {
   o.stop_at = 120;
   o.checkpoint_every = 50;
   o.ply_at = {100};
+  o.keep_checkpoint_at = {60};
   const TrainRunResult r = run_training(tiny_scene(), dir / "work", o);
   EXPECT_EQ(r.iteration, 120);
   EXPECT_EQ(r.test_views, 2u);
@@ -162,6 +163,8 @@ TEST(TrainRun, WritesEveryArtifactAndResumes) {
                         "point_cloud/iteration_120/point_cloud.ply", "test/renders/frame_00000.png",
                         "metrics.json", "train_log.jsonl", "training_curve.png"})
     EXPECT_TRUE(fs::exists(dir / "work" / f)) << f;
+  // The kept checkpoint is the state of its iteration, not replaced later.
+  EXPECT_EQ(read_checkpoint_iteration(dir / "work" / "checkpoints" / "iteration_60.ckpt"), 60);
   o.stop_at = 150;
   o.resume = true;
   EXPECT_EQ(run_training(tiny_scene(), dir / "work", o).iteration, 150);

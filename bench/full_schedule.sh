@@ -1,0 +1,160 @@
+#!/usr/bin/env bash
+# The whole training schedule on a LERF-Mask-sized scene: what a user waits
+# for. The scene is synthetic (op2gs-synth, 300 views at 986x728 like
+# LERF-Mask's figurines, generated once and cached in DIR/scene).
+#
+#   bench/full_schedule.sh full    BUILD DIR
+#       The paper's schedule once: stage one to 20,000 (checkpoints kept at
+#       2k, 5k, 10k, 15k, 20k), voting, stage two to 30,000 (kept at 25k).
+#       Hours on 2 cores; writes DIR/full/summary.txt (times, peak memory,
+#       test PSNR, Gaussians) and the kept checkpoints the other modes use.
+#   bench/full_schedule.sh sampled BUILD DIR [THREADS]
+#       Resumes from each kept checkpoint (and from the SfM points), times
+#       SAMPLE iterations (300), and integrates the rate over the schedule:
+#       the estimated full time. Missing checkpoints are left out.
+#   bench/full_schedule.sh paired  OLD_BUILD NEW_BUILD DIR [THREADS]
+#       The same with two builds alternated at every checkpoint (old, new,
+#       new, old), so the VM's speed drift cancels in the ratio.
+#   bench/full_schedule.sh profile BUILD DIR ITERATION
+#       perf over SAMPLE iterations resumed at ITERATION, grouped by phase
+#       (bench/full_schedule_phases.py).
+#
+# Environment: SAMPLE (iterations timed per checkpoint, 300), VIEWS, WIDTH,
+# HEIGHT (the scene, 300 986 728).
+set -euo pipefail
+mode="${1:?usage: bench/full_schedule.sh full|sampled|paired|profile ...}"
+shift
+here="$(cd "$(dirname "$0")" && pwd)"
+sample="${SAMPLE:-300}"
+stage_one_points=(2000 5000 10000 15000)
+stage_two_points=(20000 25000)
+
+quiet() { "$@" 2>&1 | tr '\r' '\n' | grep -v '^\[[#-]' || true; }
+
+make_scene() {  # DIR BUILD
+  [ -f "$1/scene/.complete" ] && return
+  rm -rf "$1/scene"
+  "$2/stages/op2gs-synth" "$1/scene" --views "${VIEWS:-300}" --width "${WIDTH:-986}" \
+    --height "${HEIGHT:-728}" > /dev/null
+  touch "$1/scene/.complete"
+}
+
+# Seconds per iteration over a run's log, first iteration left out (it
+# carries the loading).
+rate() {
+  python3 - "$1" <<'PY'
+import json, sys
+r = [json.loads(l) for l in open(sys.argv[1]) if '"elapsed_s"' in l]
+print((r[-1]["elapsed_s"] - r[0]["elapsed_s"]) / (r[-1]["iteration"] - r[0]["iteration"]))
+PY
+}
+
+# Times SAMPLE iterations from iteration K with BUILD; prints seconds per
+# iteration, or nothing when K's checkpoint is missing.
+time_from() {  # BUILD DIR K THREADS
+  local bin="$1/stages" dir="$2" k="$3" threads="$4" tmp log
+  local full="$dir/full"
+  tmp="$(mktemp -d "$dir/sample.XXXXXX")"
+  if [ "$k" -eq 0 ]; then
+    quiet "$bin/op2gs-train" "$dir/scene" "$tmp" --iterations "$sample" --threads "$threads" \
+      > /dev/null
+    log="$tmp/train_log.jsonl"
+  elif [ "$k" -lt 20000 ]; then
+    [ -f "$full/checkpoints/iteration_$k.ckpt" ] || { rm -rf "$tmp"; return; }
+    mkdir -p "$tmp/checkpoints"
+    ln -s "$full/checkpoints/iteration_$k.ckpt" "$tmp/checkpoints/latest.ckpt"
+    quiet "$bin/op2gs-train" "$dir/scene" "$tmp" --resume --iterations $((k + sample)) \
+      --checkpoint-every 1000000 --threads "$threads" > /dev/null
+    log="$tmp/train_log.jsonl"
+  elif [ "$k" -eq 20000 ]; then
+    [ -f "$full/vote/point_cloud.ply" ] || { rm -rf "$tmp"; return; }
+    quiet "$bin/op2gs-learn" "$dir/scene" "$tmp" --checkpoint "$full/checkpoints/iteration_$k.ckpt" \
+      --labels "$full/vote/point_cloud.ply" --iterations $((k + sample)) \
+      --checkpoint-every 1000000 --threads "$threads" > /dev/null
+    log="$tmp/learn/train_log.jsonl"
+  else
+    [ -f "$full/learn/checkpoints/iteration_$k.ckpt" ] || { rm -rf "$tmp"; return; }
+    mkdir -p "$tmp/learn/checkpoints"
+    ln -s "$full/learn/checkpoints/iteration_$k.ckpt" "$tmp/learn/checkpoints/latest.ckpt"
+    quiet "$bin/op2gs-learn" "$dir/scene" "$tmp" --resume --iterations $((k + sample)) \
+      --checkpoint-every 1000000 --threads "$threads" > /dev/null
+    log="$tmp/learn/train_log.jsonl"
+  fi
+  rate "$log"
+  rm -rf "$tmp"
+}
+
+# Reads "K seconds-per-iteration" lines; prints the schedule's estimated time.
+integrate() {
+  python3 "$here/full_schedule_integrate.py"
+}
+
+case "$mode" in
+  full)
+    build="$1" dir="$2"
+    mkdir -p "$dir"
+    make_scene "$dir" "$build"
+    full="$dir/full"
+    rm -rf "$full"
+    mkdir -p "$full"
+    bin="$build/stages"
+    {
+      echo "date: $(date -u +%FT%TZ)  commit: $(git -C "$here" rev-parse --short HEAD)"
+      /usr/bin/time -f "stage one: %e s, peak %M KiB" "$bin/op2gs-train" "$dir/scene" "$full" \
+        --keep-checkpoint-at "${stage_one_points[@]}" 20000 --iterations 20000 2>&1 |
+        tr '\r' '\n' | grep -v '^\[[#-]'
+      /usr/bin/time -f "voting: %e s, peak %M KiB" "$bin/op2gs-vote" "$dir/scene" "$full" 2>&1 |
+        tr '\r' '\n' | grep -v '^\[[#-]'
+      /usr/bin/time -f "stage two: %e s, peak %M KiB" "$bin/op2gs-learn" "$dir/scene" "$full" \
+        --keep-checkpoint-at 25000 --iterations 30000 2>&1 | tr '\r' '\n' | grep -v '^\[[#-]'
+      python3 - "$full" <<'PY'
+import json, sys
+full = sys.argv[1]
+for name, log in (("stage one", f"{full}/train_log.jsonl"), ("stage two", f"{full}/learn/train_log.jsonl")):
+    rows = [json.loads(l) for l in open(log) if '"gaussians"' in l]
+    marks = [r for r in rows if r["iteration"] % 2500 == 0 or r is rows[-1]]
+    print(name, "Gaussians:", ", ".join(f'{r["iteration"]}: {r["gaussians"]}' for r in marks))
+for name, m in (("stage one", f"{full}/metrics.json"), ("stage two", f"{full}/learn/metrics.json")):
+    j = json.load(open(m))
+    print(f'{name} test PSNR at {j["iteration"]}: {j["psnr"]:.2f} dB, SSIM {j["ssim"]:.4f}')
+PY
+    } | tee "$full/summary.txt"
+    ;;
+  sampled)
+    build="$1" dir="$2" threads="${3:-0}"
+    make_scene "$dir" "$build"
+    for k in 0 "${stage_one_points[@]}" "${stage_two_points[@]}"; do
+      r="$(time_from "$build" "$dir" "$k" "$threads")"
+      [ -n "$r" ] && echo "$k $r"
+    done | tee /dev/stderr | integrate
+    ;;
+  paired)
+    old="$1" new="$2" dir="$3" threads="${4:-0}"
+    make_scene "$dir" "$new"
+    for k in 0 "${stage_one_points[@]}" "${stage_two_points[@]}"; do
+      a1="$(time_from "$old" "$dir" "$k" "$threads")"
+      [ -n "$a1" ] || continue
+      b1="$(time_from "$new" "$dir" "$k" "$threads")"
+      b2="$(time_from "$new" "$dir" "$k" "$threads")"
+      a2="$(time_from "$old" "$dir" "$k" "$threads")"
+      echo "$k $a1 $a2 $b1 $b2"
+    done | tee /dev/stderr | python3 "$here/full_schedule_integrate.py" --paired
+    ;;
+  profile)
+    build="$1" dir="$2" k="$3"
+    make_scene "$dir" "$build"
+    data="$dir/perf.$k.data"
+    # perf follows the stage's threads; the phases are named after the
+    # functions that do their work (bench/full_schedule_phases.py).
+    perf record -F 499 -o "$data" -- "$0" sampled-one "$build" "$dir" "$k" > /dev/null 2>&1
+    perf report -i "$data" --no-children --sort dso,sym --stdio 2> /dev/null |
+      python3 "$here/full_schedule_phases.py"
+    ;;
+  sampled-one)  # used by profile
+    time_from "$1" "$2" "$3" 0
+    ;;
+  *)
+    echo "bench/full_schedule.sh: unknown mode '$mode' (full, sampled, paired or profile)" >&2
+    exit 2
+    ;;
+esac
