@@ -64,20 +64,20 @@ time_from() {  # BUILD DIR K THREADS
     mkdir -p "$tmp/checkpoints"
     ln -s "$full/checkpoints/iteration_$k.ckpt" "$tmp/checkpoints/latest.ckpt"
     quiet "$bin/op2gs-train" "$dir/scene" "$tmp" --resume --iterations $((k + sample)) \
-      --checkpoint-every 1000000 --threads "$threads" > /dev/null
+      --checkpoint-every 1000000 --threads "$threads" --no-final-test > /dev/null
     log="$tmp/train_log.jsonl"
   elif [ "$k" -eq 20000 ]; then
     [ -f "$full/vote/point_cloud.ply" ] || { rm -rf "$tmp"; return; }
     quiet "$bin/op2gs-learn" "$dir/scene" "$tmp" --checkpoint "$full/checkpoints/iteration_$k.ckpt" \
       --labels "$full/vote/point_cloud.ply" --iterations $((k + sample)) \
-      --checkpoint-every 1000000 --threads "$threads" > /dev/null
+      --checkpoint-every 1000000 --threads "$threads" --no-final-test > /dev/null
     log="$tmp/learn/train_log.jsonl"
   else
     [ -f "$full/learn/checkpoints/iteration_$k.ckpt" ] || { rm -rf "$tmp"; return; }
     mkdir -p "$tmp/learn/checkpoints"
     ln -s "$full/learn/checkpoints/iteration_$k.ckpt" "$tmp/learn/checkpoints/latest.ckpt"
     quiet "$bin/op2gs-learn" "$dir/scene" "$tmp" --resume --iterations $((k + sample)) \
-      --checkpoint-every 1000000 --threads "$threads" > /dev/null
+      --checkpoint-every 1000000 --threads "$threads" --no-final-test > /dev/null
     log="$tmp/learn/train_log.jsonl"
   fi
   rate "$log"

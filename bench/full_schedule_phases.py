@@ -16,8 +16,8 @@ PHASES = [
     ("projection + SH colour", r"project_gaussians|project_geometry|project_extents|sh_basis|"
                                r"sh_colou?r|fast_exp"),
     ("binning (tile lists, depth sort)", r"bin_gaussians|radix_sort|depth_key|tile_bins"),
-    ("rasterize forward", r"rasterize_forward|gather_with_blocks|TileGaussians"),
-    ("rasterize backward", r"rasterize_backward"),
+    ("rasterize forward", r"rasterize_forward|gather_with_blocks|TileGaussians|blend_block"),
+    ("rasterize backward", r"rasterize_backward|backward_tile|backward_band|backward_one"),
     ("loss (L1 + SSIM)", r"image_loss|ssim|blur|gaussian_window|psnr|rgb_channel"),
     ("Adam", r"GaussianAdam|adam_update"),
     ("densification", r"densify|DensificationStats|prune|reset_opacity|append_copy|max_scale"),
@@ -26,8 +26,9 @@ PHASES = [
                                      r"inflate|jpeg_|OpenImageIO|decode|Imf|OIIO"),
     ("threading (TBB scheduler, idle)", r"libtbb|tbb::detail::r1|sched_yield|futex|"
                                         r"__sched_yield|do_sched_yield"),
-    ("memory (page faults, memset, memcpy)", r"\[kernel|clear_page|memset|memcpy|memmove|"
-                                             r"page_fault|_raw_spin|madvise"),
+    ("memory (page faults, memset, memcpy, malloc)", r"\[kernel|clear_page|memset|memcpy|"
+                                                     r"memmove|page_fault|malloc|_int_free|"
+                                                     r"unlink_chunk|madvise"),
 ]
 
 

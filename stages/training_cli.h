@@ -27,6 +27,8 @@ class TrainingCli {
     app.add_option("--keep-checkpoint-at", o.keep_checkpoint_at,
                    "also keep the checkpoint of these iterations as checkpoints/iteration_N.ckpt");
     app.add_option("--test-at", o.test_at, "also evaluate the test views at these iterations");
+    app.add_flag("!--no-final-test", o.test_at_end,
+                 "do not render and score the test views at the end (metrics.json then has none)");
     app.add_flag("--exposure-compensation", o.train.exposure.enabled,
                  "learn a colour transform per training view (exposure, white balance) applied "
                  "before the loss; test views are rendered without it");

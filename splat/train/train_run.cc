@@ -145,7 +145,8 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
   write_ply_at(trainer, out);
 
   const std::vector<ViewMetrics> metrics =
-      trainer.evaluate(trainer.split().test, out.test_renders());
+      o.test_at_end ? trainer.evaluate(trainer.split().test, out.test_renders())
+                    : std::vector<ViewMetrics>{};
   if (!metrics.empty()) log.record_test(trainer.iteration(), metrics);
   const json m = metrics_json(metrics, trainer.iteration(), trainer.split().rule);
   write_text_atomically(out.metrics(), m.dump(2) + "\n");

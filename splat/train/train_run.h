@@ -24,6 +24,9 @@ struct TrainRunOptions {
   std::vector<int> keep_checkpoint_at;
   std::vector<int> test_at;  // iterations with a test evaluation (the end always has one)
   bool resume = false;       // continue from <work>/checkpoints/latest.ckpt
+  // Render and score the test views at the end. Off, metrics.json says no
+  // test views were scored (a benchmark's short timed runs).
+  bool test_at_end = true;
   // Stage two (op2gs-learn): start from this stage-one checkpoint, with the
   // labels of this labelled model (op2gs-vote's PLY), instead of the SfM
   // points.

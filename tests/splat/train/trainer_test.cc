@@ -168,6 +168,9 @@ TEST(TrainRun, WritesEveryArtifactAndResumes) {
   o.stop_at = 150;
   o.resume = true;
   EXPECT_EQ(run_training(tiny_scene(), dir / "work", o).iteration, 150);
+  o.stop_at = 160;
+  o.test_at_end = false;  // a timed run: no test views scored
+  EXPECT_EQ(run_training(tiny_scene(), dir / "work", o).test_views, 0u);
 }
 
 }  // namespace
