@@ -19,7 +19,8 @@
 #       perf over SAMPLE iterations resumed at ITERATION, grouped by phase
 #       (bench/full_schedule_phases.py).
 #
-# Environment: SAMPLE (iterations timed per checkpoint, 300), VIEWS, WIDTH,
+# Environment: SAMPLE (iterations timed per checkpoint, 300), POINTS (the
+# iterations sampled, "0 2000 5000 10000 15000 20000 25000"), VIEWS, WIDTH,
 # HEIGHT (the scene, 300 986 728).
 set -euo pipefail
 mode="${1:?usage: bench/full_schedule.sh full|sampled|paired|profile ...}"
@@ -27,9 +28,14 @@ shift
 here="$(cd "$(dirname "$0")" && pwd)"
 sample="${SAMPLE:-300}"
 stage_one_points=(2000 5000 10000 15000)
-stage_two_points=(20000 25000)
+read -r -a points <<< "${POINTS:-0 ${stage_one_points[*]} 20000 25000}"
 
-quiet() { "$@" 2>&1 | tr '\r' '\n' | grep -v '^\[[#-]' || true; }
+# A timed run's output goes to its folder's run.log.
+run() {
+  local tmp="$1"
+  shift
+  "$@" > "$tmp/run.log" 2>&1 || true
+}
 
 make_scene() {  # DIR BUILD
   [ -f "$1/scene/.complete" ] && return
@@ -55,30 +61,40 @@ time_from() {  # BUILD DIR K THREADS
   local bin="$1/stages" dir="$2" k="$3" threads="$4" tmp log
   local full="$dir/full"
   tmp="$(mktemp -d "$dir/sample.XXXXXX")"
+  # Skip the test views at the end (builds older than the flag score them,
+  # outside the timed iterations).
+  local no_test=""
+  "$bin/op2gs-train" --help | grep -q -- --no-final-test && no_test=--no-final-test
   if [ "$k" -eq 0 ]; then
-    quiet "$bin/op2gs-train" "$dir/scene" "$tmp" --iterations "$sample" --threads "$threads" \
-      > /dev/null
+    run "$tmp" "$bin/op2gs-train" "$dir/scene" "$tmp" --iterations "$sample" --threads "$threads" \
+      $no_test
     log="$tmp/train_log.jsonl"
   elif [ "$k" -lt 20000 ]; then
     [ -f "$full/checkpoints/iteration_$k.ckpt" ] || { rm -rf "$tmp"; return; }
     mkdir -p "$tmp/checkpoints"
     ln -s "$full/checkpoints/iteration_$k.ckpt" "$tmp/checkpoints/latest.ckpt"
-    quiet "$bin/op2gs-train" "$dir/scene" "$tmp" --resume --iterations $((k + sample)) \
-      --checkpoint-every 1000000 --threads "$threads" --no-final-test > /dev/null
+    run "$tmp" "$bin/op2gs-train" "$dir/scene" "$tmp" --resume --iterations $((k + sample)) \
+      --checkpoint-every 1000000 --threads "$threads" $no_test
     log="$tmp/train_log.jsonl"
   elif [ "$k" -eq 20000 ]; then
     [ -f "$full/vote/point_cloud.ply" ] || { rm -rf "$tmp"; return; }
-    quiet "$bin/op2gs-learn" "$dir/scene" "$tmp" --checkpoint "$full/checkpoints/iteration_$k.ckpt" \
+    run "$tmp" "$bin/op2gs-learn" "$dir/scene" "$tmp" --checkpoint "$full/checkpoints/iteration_$k.ckpt" \
       --labels "$full/vote/point_cloud.ply" --iterations $((k + sample)) \
-      --checkpoint-every 1000000 --threads "$threads" --no-final-test > /dev/null
+      --checkpoint-every 1000000 --threads "$threads" $no_test
     log="$tmp/learn/train_log.jsonl"
   else
     [ -f "$full/learn/checkpoints/iteration_$k.ckpt" ] || { rm -rf "$tmp"; return; }
     mkdir -p "$tmp/learn/checkpoints"
     ln -s "$full/learn/checkpoints/iteration_$k.ckpt" "$tmp/learn/checkpoints/latest.ckpt"
-    quiet "$bin/op2gs-learn" "$dir/scene" "$tmp" --resume --iterations $((k + sample)) \
-      --checkpoint-every 1000000 --threads "$threads" --no-final-test > /dev/null
+    run "$tmp" "$bin/op2gs-learn" "$dir/scene" "$tmp" --resume --iterations $((k + sample)) \
+      --checkpoint-every 1000000 --threads "$threads" $no_test
     log="$tmp/learn/train_log.jsonl"
+  fi
+  if [ ! -f "$log" ]; then
+    echo "bench/full_schedule.sh: the run from iteration $k with $1 failed:" >&2
+    tail -3 "$tmp/run.log" >&2
+    rm -rf "$tmp"
+    return 1
   fi
   rate "$log"
   rm -rf "$tmp"
@@ -123,7 +139,7 @@ PY
   sampled)
     build="$1" dir="$2" threads="${3:-0}"
     make_scene "$dir" "$build"
-    for k in 0 "${stage_one_points[@]}" "${stage_two_points[@]}"; do
+    for k in "${points[@]}"; do
       r="$(time_from "$build" "$dir" "$k" "$threads")"
       [ -n "$r" ] && echo "$k $r"
     done | tee /dev/stderr | integrate
@@ -131,7 +147,7 @@ PY
   paired)
     old="$1" new="$2" dir="$3" threads="${4:-0}"
     make_scene "$dir" "$new"
-    for k in 0 "${stage_one_points[@]}" "${stage_two_points[@]}"; do
+    for k in "${points[@]}"; do
       a1="$(time_from "$old" "$dir" "$k" "$threads")"
       [ -n "$a1" ] || continue
       b1="$(time_from "$new" "$dir" "$k" "$threads")"

@@ -22,9 +22,22 @@ struct ImageLoss {
   double total = 0;  // (1 - lambda) * l1 + lambda * (1 - ssim)
 };
 
+// The planes image_loss works in, kept from call to call: at 1K resolution
+// they are tens of MB, and allocating them for every iteration cost as much
+// as the arithmetic (page faults, clearing).
+struct ImageLossBuffers {
+  std::vector<float> x, y;        // one channel of the render and the photo
+  std::vector<float> blurred[5];  // x, y, x^2, y^2, xy after the horizontal pass
+  std::vector<float> d_stats[3];  // dS/d(mu_x), dS/d(E[x^2]), dS/d(E[xy]) per pixel
+  std::vector<double> band_sums;  // per band of rows, summed in order
+};
+
 // Loss of rendered (interleaved RGB, W x H) against target; when grad is not
-// null it receives dLoss/d(rendered), same layout.
+// null it receives dLoss/d(rendered), same layout. The result does not depend
+// on the number of threads. splat/image_quality.h's ssim_plane is the slow
+// reference this is tested against.
 ImageLoss image_loss(std::span<const float> rendered, const ImageRGB& target,
-                     const ImageLossOptions& options, std::vector<float>* grad);
+                     const ImageLossOptions& options, std::vector<float>* grad,
+                     ImageLossBuffers* buffers = nullptr);
 
 }  // namespace splat

@@ -156,7 +156,7 @@ void Trainer::train_until(int until,
       exposure_.apply(view, render_out_.color, exposed_);
       shown = exposed_;
     }
-    st.loss = image_loss(shown, *target, o.loss, &out_grads_.color);
+    st.loss = image_loss(shown, *target, o.loss, &out_grads_.color, &loss_buffers_);
     if (objects)
       st.object_loss = object_loss(render_out_.instance_maps, render_out_.instance_map_labels,
                                    objects->ids, o.object_loss.weight, &out_grads_.instance_maps);

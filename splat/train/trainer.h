@@ -163,6 +163,7 @@ class Trainer {
   RenderOutput render_out_;
   RenderOutputGradients out_grads_;
   GaussianGradients grads_;
+  ImageLossBuffers loss_buffers_;
   ViewColorTransforms exposure_;  // empty unless exposure compensation is on
   std::vector<float> exposed_;    // the render through the view's transform
 };
