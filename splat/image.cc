@@ -31,6 +31,16 @@ ImageInfo read_image_info(const fs::path& file) {
 ImageRGB read_image_rgb(const fs::path& file) {
   auto in = open_image_input(file);
   const auto& spec = in->spec();
+  const auto usable = [](float v) { return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f; };
+  if (spec.nchannels >= 3) {
+    // Decoded straight into the image, alpha left out: no second copy of a
+    // view the trainer loads every iteration it misses the cache.
+    ImageRGB image(spec.width, spec.height);
+    if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, image.data.data()))
+      throw InputError(file, "cannot decode image: " + in->geterror());
+    for (float& v : image.data) v = usable(v);
+    return image;
+  }
   const std::vector<float> pixels = read_pixels<float>(*in, OIIO::TypeDesc::FLOAT, file);
   const int nc = spec.nchannels;
   ImageRGB image(spec.width, spec.height);
@@ -38,8 +48,7 @@ ImageRGB read_image_rgb(const fs::path& file) {
   for (size_t i = 0; i < n; ++i) {
     for (int c = 0; c < 3; ++c) {
       // Grey (1 or grey+alpha 2 channels) is replicated; alpha is dropped.
-      const float v = pixels[i * nc + (nc >= 3 ? c : 0)];
-      image.data[3 * i + c] = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
+      image.data[3 * i + c] = usable(pixels[i * nc]);
     }
   }
   return image;
