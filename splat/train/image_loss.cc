@@ -3,7 +3,9 @@
 #include <tbb/parallel_for.h>
 
 #include <array>
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace splat {
 namespace {
@@ -172,9 +174,10 @@ void add_ssim_gradient(const Window& w, ImageLossBuffers& b, int W, int H, int c
   });
 }
 
-// L1 and, with grad, its gradient (which starts grad).
-double l1_sum(std::span<const float> rendered, const ImageRGB& target, float g,
-              std::vector<float>* grad, ImageLossBuffers& b) {
+// The sums of absolute and squared differences and, with grad, the L1's
+// gradient (which starts grad).
+std::pair<double, double> difference_sums(std::span<const float> rendered, const ImageRGB& target,
+                                          float g, std::vector<float>* grad, ImageLossBuffers& b) {
   const int W = target.width, H = target.height;
   if (grad) grad->resize(rendered.size());
   const float* x = rendered.data();
@@ -183,27 +186,28 @@ double l1_sum(std::span<const float> rendered, const ImageRGB& target, float g,
   for_each_band(H, [&](int band, int y0, int y1) {
     // Partial sums per lane, as in ssim_from_statistics; the sign as the
     // difference of two comparisons keeps the loop free of branches.
-    double lane_sums[kLanes] = {};
+    double abs_sums[kLanes] = {}, square_sums[kLanes] = {};
+    const auto element = [&](size_t i, int lane) {
+      const double e = double(x[i]) - t[i];
+      abs_sums[lane] += std::abs(e);
+      square_sums[lane] += e * e;
+      const float d = x[i] - t[i];
+      if (dx) dx[i] = g * (float(d > 0) - float(d < 0));  // torch's sign(0) = 0
+    };
     const size_t end = size_t(y1) * W * 3;
     size_t i = size_t(y0) * W * 3;
     for (; i + kLanes <= end; i += kLanes)
-      for (int l = 0; l < kLanes; ++l) {
-        lane_sums[l] += std::abs(double(x[i + l]) - t[i + l]);
-        const float d = x[i + l] - t[i + l];
-        if (dx) dx[i + l] = g * (float(d > 0) - float(d < 0));  // torch's sign(0) = 0
-      }
-    for (; i < end; ++i) {
-      lane_sums[0] += std::abs(double(x[i]) - t[i]);
-      const float d = x[i] - t[i];
-      if (dx) dx[i] = g * (float(d > 0) - float(d < 0));
-    }
-    double sum = 0;
-    for (double lane : lane_sums) sum += lane;
-    b.band_sums[band] = sum;
+      for (int l = 0; l < kLanes; ++l) element(i + l, l);
+    for (; i < end; ++i) element(i, 0);
+    double abs_sum = 0, square_sum = 0;
+    for (int l = 0; l < kLanes; ++l) abs_sum += abs_sums[l], square_sum += square_sums[l];
+    b.band_sums[band] = abs_sum;
+    b.band_sums[bands_of(H) + band] = square_sum;
   });
-  double sum = 0;
-  for (int band = 0; band < bands_of(H); ++band) sum += b.band_sums[band];
-  return sum;
+  double abs_sum = 0, square_sum = 0;
+  for (int band = 0; band < bands_of(H); ++band)
+    abs_sum += b.band_sums[band], square_sum += b.band_sums[bands_of(H) + band];
+  return {abs_sum, square_sum};
 }
 
 void prepare(ImageLossBuffers& b, int W, int H, bool gradient) {
@@ -212,7 +216,7 @@ void prepare(ImageLossBuffers& b, int W, int H, bool gradient) {
        {&b.x, &b.y, &b.blurred[0], &b.blurred[1], &b.blurred[2], &b.blurred[3], &b.blurred[4]})
     v->resize(n);
   for (auto& d : b.d_stats) d.resize(gradient ? n : 0);
-  b.band_sums.resize(bands_of(H));
+  b.band_sums.resize(2 * bands_of(H));
 }
 
 }  // namespace
@@ -227,7 +231,10 @@ ImageLoss image_loss(std::span<const float> rendered, const ImageRGB& target,
   const size_t n = target.data.size();
   prepare(b, W, H, grad != nullptr);
   ImageLoss loss;
-  loss.l1 = l1_sum(rendered, target, (1 - options.lambda_ssim) / float(n), grad, b) / n;
+  const auto [abs_sum, square_sum] =
+      difference_sums(rendered, target, (1 - options.lambda_ssim) / float(n), grad, b);
+  loss.l1 = abs_sum / n;
+  loss.mse = square_sum / n;
   double ssim_sum = 0;
   for (int c = 0; c < 3; ++c) {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, size_t(W) * H), [&](const auto& r) {

@@ -18,6 +18,7 @@ struct ImageLossOptions {
 
 struct ImageLoss {
   double l1 = 0;     // mean absolute error
+  double mse = 0;    // mean squared error (the training view's PSNR, free with the L1 pass)
   double ssim = 0;   // mean SSIM
   double total = 0;  // (1 - lambda) * l1 + lambda * (1 - ssim)
 };

@@ -167,7 +167,7 @@ void Trainer::train_until(int until,
           fmt::format("the loss is not finite at iteration {} (view {}); "
                       "nothing was saved after the last checkpoint",
                       it, scene_->views()[view].name));
-    st.psnr = psnr(shown, target->data);
+    st.psnr = 10 * std::log10(1.0 / std::max(st.loss.mse, 1e-20));  // as psnr() computes it
     if (compensates_exposure()) {
       // The last iteration of the schedule takes no step, as for the Gaussians.
       const float lr = it < o.total_iterations ? exposure_learning_rate(it) : 0.f;

@@ -84,6 +84,7 @@ TEST(ImageLoss, MatchesTheSlowReferenceAtEverySize) {
     // The blurs may round differently (the order of multiply-adds the
     // compiler vectorises), so the figures agree to float precision.
     EXPECT_NEAR(l.l1, expected.l1, 1e-12) << w << "x" << h;
+    EXPECT_NEAR(10 * std::log10(1 / l.mse), psnr(rendered.data, target.data), 1e-9);
     EXPECT_NEAR(l.ssim, expected.ssim, 1e-6) << w << "x" << h;
     EXPECT_NEAR(l.total, expected.total, 1e-6) << w << "x" << h;
     ASSERT_EQ(grad.size(), expected_grad.size());
