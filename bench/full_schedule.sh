@@ -15,6 +15,8 @@
 #   bench/full_schedule.sh paired  OLD_BUILD NEW_BUILD DIR [THREADS]
 #       The same with two builds alternated at every checkpoint (old, new,
 #       new, old), so the VM's speed drift cancels in the ratio.
+#   bench/full_schedule.sh threads BUILD DIR
+#       Thread scaling: 1 and 2 threads alternated at every checkpoint.
 #   bench/full_schedule.sh profile BUILD DIR ITERATION
 #       perf over SAMPLE iterations resumed at ITERATION, grouped by phase
 #       (bench/full_schedule_phases.py).
@@ -23,7 +25,7 @@
 # iterations sampled, "0 2000 5000 10000 15000 20000 25000"), VIEWS, WIDTH,
 # HEIGHT (the scene, 300 986 728).
 set -euo pipefail
-mode="${1:?usage: bench/full_schedule.sh full|sampled|paired|profile ...}"
+mode="${1:?usage: bench/full_schedule.sh full|sampled|paired|threads|profile ...}"
 shift
 here="$(cd "$(dirname "$0")" && pwd)"
 sample="${SAMPLE:-300}"
@@ -156,6 +158,18 @@ PY
       echo "$k $a1 $a2 $b1 $b2"
     done | tee /dev/stderr | python3 "$here/full_schedule_integrate.py" --paired
     ;;
+  threads)
+    build="$1" dir="$2"
+    make_scene "$dir" "$build"
+    for k in "${points[@]}"; do
+      a1="$(time_from "$build" "$dir" "$k" 1)"
+      [ -n "$a1" ] || continue
+      b1="$(time_from "$build" "$dir" "$k" 2)"
+      b2="$(time_from "$build" "$dir" "$k" 2)"
+      a2="$(time_from "$build" "$dir" "$k" 1)"
+      echo "$k $a1 $a2 $b1 $b2"
+    done | tee /dev/stderr | python3 "$here/full_schedule_integrate.py" --threads
+    ;;
   profile)
     build="$1" dir="$2" k="$3"
     make_scene "$dir" "$build"
@@ -170,7 +184,7 @@ PY
     time_from "$1" "$2" "$3" 0
     ;;
   *)
-    echo "bench/full_schedule.sh: unknown mode '$mode' (full, sampled, paired or profile)" >&2
+    echo "bench/full_schedule.sh: unknown mode '$mode' (full, sampled, paired, threads or profile)" >&2
     exit 2
     ;;
 esac

@@ -2,7 +2,7 @@
 """The schedule's estimated time from sampled rates (bench/full_schedule.sh).
 
 Reads lines "K seconds-per-iteration" (or, with --paired, "K old1 old2 new1
-new2") and integrates the rate over the schedule: linearly between the
+new2"; with --threads the same, old being 1 thread and new 2) and integrates the rate over the schedule: linearly between the
 sampled iterations of a stage, constant from a stage's last sample to its end
 (densification stops at 15,000, so stage one's Gaussians stop changing
 there; stage two never densifies). Stage one is 0..20,000, stage two
@@ -39,7 +39,8 @@ def estimate(points):
 
 
 def main():
-    paired = "--paired" in sys.argv
+    paired = "--paired" in sys.argv or "--threads" in sys.argv
+    scaling = "--threads" in sys.argv  # old: 1 thread, new: 2
     old, new = {}, {}
     for line in sys.stdin:
         f = line.split()
@@ -61,7 +62,9 @@ def main():
     if paired:
         t_old, _ = estimate(old)
         t_new, _ = estimate(new)
-        if t_old and t_new:
+        if t_old and t_new and scaling:
+            print(f"speed-up of 2 threads over 1 over the schedule: {t_old / t_new:.3f}")
+        elif t_old and t_new:
             print(f"new/old over the schedule: {t_new / t_old:.3f}")
         else:  # the stages that have every sample
             for name, start, end in STAGES:
