@@ -1,5 +1,7 @@
 #include "splat/train/densify.h"
 
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -36,12 +38,16 @@ void DensificationStats::reset(size_t n) {
 }
 
 void DensificationStats::add(const GaussianGradients& g, const std::vector<int32_t>& radii) {
-  for (size_t i = 0; i < count.size(); ++i) {
-    if (!g.visible[i]) continue;
-    grad_accum[i] += std::hypot(g.mean2d_ndc[2 * i], g.mean2d_ndc[2 * i + 1]);
-    count[i] += 1.f;
-    max_radius[i] = std::max(max_radius[i], float(radii[i]));
-  }
+  // Every iteration until densification ends, over every Gaussian: in
+  // parallel, so that it does not become the serial part on many cores.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count.size(), 16384), [&](const auto& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i) {
+      if (!g.visible[i]) continue;
+      grad_accum[i] += std::hypot(g.mean2d_ndc[2 * i], g.mean2d_ndc[2 * i + 1]);
+      count[i] += 1.f;
+      max_radius[i] = std::max(max_radius[i], float(radii[i]));
+    }
+  });
 }
 
 void DensificationStats::save(std::ostream& out) const {

@@ -2,8 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
-#include <array>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
