@@ -8,6 +8,12 @@
 #       2k, 5k, 10k, 15k, 20k), voting, stage two to 30,000 (kept at 25k).
 #       Hours on 2 cores; writes DIR/full/summary.txt (times, peak memory,
 #       test PSNR, Gaussians) and the kept checkpoints the other modes use.
+#       Run it again after an interruption and it continues: finished stages
+#       are skipped, the others resume from their latest checkpoint (every
+#       1,000 iterations). RESTART=1 starts over.
+#   bench/full_schedule.sh summary DIR
+#       What the full run has done so far (it may be unfinished): time per
+#       stage summed over its sessions, Gaussians, peak memory, test PSNR.
 #   bench/full_schedule.sh sampled BUILD DIR [THREADS]
 #       Resumes from each kept checkpoint (and from the SfM points), times
 #       SAMPLE iterations (300), and integrates the rate over the schedule:
@@ -22,13 +28,17 @@
 #       (bench/full_schedule_phases.py).
 #
 # Environment: SAMPLE (iterations timed per checkpoint, 300), POINTS (the
-# iterations sampled, "0 2000 5000 10000 15000 20000 25000"), VIEWS, WIDTH,
-# HEIGHT (the scene, 300 986 728).
+# iterations sampled, "0 2000 5000 10000 15000 20000 25000"), WARMUP
+# (iterations run untimed before the SAMPLE, 0: a resumed run decodes every
+# view once in its first epoch, which an uninterrupted run with its view
+# cache warm does not; one epoch, the training views' count, times the warm
+# cache), VIEWS, WIDTH, HEIGHT (the scene, 300 986 728).
 set -euo pipefail
-mode="${1:?usage: bench/full_schedule.sh full|sampled|paired|threads|profile ...}"
+mode="${1:?usage: bench/full_schedule.sh full|summary|sampled|paired|threads|profile ...}"
 shift
 here="$(cd "$(dirname "$0")" && pwd)"
 sample="${SAMPLE:-300}"
+warmup="${WARMUP:-0}"
 stage_one_points=(2000 5000 10000 15000)
 read -r -a points <<< "${POINTS:-0 ${stage_one_points[*]} 20000 25000}"
 
@@ -47,20 +57,23 @@ make_scene() {  # DIR BUILD
   touch "$1/scene/.complete"
 }
 
-# Seconds per iteration over a run's log, first iteration left out (it
-# carries the loading).
-rate() {
-  python3 - "$1" <<'PY'
+# Seconds per iteration over a run's log after iteration FROM + 1 (whose
+# time carries the loading, or the warm-up).
+rate() {  # LOG FROM
+  python3 - "$1" "$2" <<'PY'
 import json, sys
 r = [json.loads(l) for l in open(sys.argv[1]) if '"elapsed_s"' in l]
+r = [x for x in r if x["iteration"] > int(sys.argv[2])]
 print((r[-1]["elapsed_s"] - r[0]["elapsed_s"]) / (r[-1]["iteration"] - r[0]["iteration"]))
 PY
 }
 
-# Times SAMPLE iterations from iteration K with BUILD; prints seconds per
-# iteration, or nothing when K's checkpoint is missing.
+# Times SAMPLE iterations from iteration K (after WARMUP untimed ones) with
+# BUILD; prints seconds per iteration, or nothing when K's checkpoint is
+# missing.
 time_from() {  # BUILD DIR K THREADS
   local bin="$1/stages" dir="$2" k="$3" threads="$4" tmp log
+  local stop=$((k + warmup + sample))
   local full="$dir/full"
   tmp="$(mktemp -d "$dir/sample.XXXXXX")"
   # Skip the test views at the end (builds older than the flag score them,
@@ -68,27 +81,27 @@ time_from() {  # BUILD DIR K THREADS
   local no_test=""
   "$bin/op2gs-train" --help | grep -q -- --no-final-test && no_test=--no-final-test
   if [ "$k" -eq 0 ]; then
-    run "$tmp" "$bin/op2gs-train" "$dir/scene" "$tmp" --iterations "$sample" --threads "$threads" \
+    run "$tmp" "$bin/op2gs-train" "$dir/scene" "$tmp" --iterations "$stop" --threads "$threads" \
       $no_test
     log="$tmp/train_log.jsonl"
   elif [ "$k" -lt 20000 ]; then
     [ -f "$full/checkpoints/iteration_$k.ckpt" ] || { rm -rf "$tmp"; return; }
     mkdir -p "$tmp/checkpoints"
     ln -s "$full/checkpoints/iteration_$k.ckpt" "$tmp/checkpoints/latest.ckpt"
-    run "$tmp" "$bin/op2gs-train" "$dir/scene" "$tmp" --resume --iterations $((k + sample)) \
+    run "$tmp" "$bin/op2gs-train" "$dir/scene" "$tmp" --resume --iterations "$stop" \
       --checkpoint-every 1000000 --threads "$threads" $no_test
     log="$tmp/train_log.jsonl"
   elif [ "$k" -eq 20000 ]; then
     [ -f "$full/vote/point_cloud.ply" ] || { rm -rf "$tmp"; return; }
     run "$tmp" "$bin/op2gs-learn" "$dir/scene" "$tmp" --checkpoint "$full/checkpoints/iteration_$k.ckpt" \
-      --labels "$full/vote/point_cloud.ply" --iterations $((k + sample)) \
+      --labels "$full/vote/point_cloud.ply" --iterations "$stop" \
       --checkpoint-every 1000000 --threads "$threads" $no_test
     log="$tmp/learn/train_log.jsonl"
   else
     [ -f "$full/learn/checkpoints/iteration_$k.ckpt" ] || { rm -rf "$tmp"; return; }
     mkdir -p "$tmp/learn/checkpoints"
     ln -s "$full/learn/checkpoints/iteration_$k.ckpt" "$tmp/learn/checkpoints/latest.ckpt"
-    run "$tmp" "$bin/op2gs-learn" "$dir/scene" "$tmp" --resume --iterations $((k + sample)) \
+    run "$tmp" "$bin/op2gs-learn" "$dir/scene" "$tmp" --resume --iterations "$stop" \
       --checkpoint-every 1000000 --threads "$threads" $no_test
     log="$tmp/learn/train_log.jsonl"
   fi
@@ -98,7 +111,7 @@ time_from() {  # BUILD DIR K THREADS
     rm -rf "$tmp"
     return 1
   fi
-  rate "$log"
+  rate "$log" $((k + warmup))
   rm -rf "$tmp"
 }
 
@@ -113,30 +126,36 @@ case "$mode" in
     mkdir -p "$dir"
     make_scene "$dir" "$build"
     full="$dir/full"
-    rm -rf "$full"
+    [ "${RESTART:-0}" = 1 ] && rm -rf "$full"
     mkdir -p "$full"
     bin="$build/stages"
-    {
-      echo "date: $(date -u +%FT%TZ)  commit: $(git -C "$here" rev-parse --short HEAD)"
-      /usr/bin/time -f "stage one: %e s, peak %M KiB" "$bin/op2gs-train" "$dir/scene" "$full" \
-        --keep-checkpoint-at "${stage_one_points[@]}" 20000 --iterations 20000 2>&1 |
+    segments="$full/segments.log"
+    # One line per stage run: its wall time and peak memory (a stage that
+    # was interrupted and resumed has several).
+    timed() {  # NAME COMMAND...
+      local name="$1"
+      shift
+      /usr/bin/time -a -o "$segments" -f "$name: %e s, peak %M KiB" "$@" 2>&1 |
         tr '\r' '\n' | grep -v '^\[[#-]'
-      /usr/bin/time -f "voting: %e s, peak %M KiB" "$bin/op2gs-vote" "$dir/scene" "$full" 2>&1 |
-        tr '\r' '\n' | grep -v '^\[[#-]'
-      /usr/bin/time -f "stage two: %e s, peak %M KiB" "$bin/op2gs-learn" "$dir/scene" "$full" \
-        --keep-checkpoint-at 25000 --iterations 30000 2>&1 | tr '\r' '\n' | grep -v '^\[[#-]'
-      python3 - "$full" <<'PY'
-import json, sys
-full = sys.argv[1]
-for name, log in (("stage one", f"{full}/train_log.jsonl"), ("stage two", f"{full}/learn/train_log.jsonl")):
-    rows = [json.loads(l) for l in open(log) if '"gaussians"' in l]
-    marks = [r for r in rows if r["iteration"] % 2500 == 0 or r is rows[-1]]
-    print(name, "Gaussians:", ", ".join(f'{r["iteration"]}: {r["gaussians"]}' for r in marks))
-for name, m in (("stage one", f"{full}/metrics.json"), ("stage two", f"{full}/learn/metrics.json")):
-    j = json.load(open(m))
-    print(f'{name} test PSNR at {j["iteration"]}: {j["psnr"]:.2f} dB, SSIM {j["ssim"]:.4f}')
-PY
-    } | tee "$full/summary.txt"
+    }
+    echo "session: $(date -u +%FT%TZ) commit $(git -C "$here" rev-parse --short HEAD)" >> "$segments"
+    if [ ! -f "$full/metrics.json" ]; then
+      resume=()
+      [ -f "$full/checkpoints/latest.ckpt" ] && resume=(--resume)
+      timed "stage one" "$bin/op2gs-train" "$dir/scene" "$full" "${resume[@]}" \
+        --keep-checkpoint-at "${stage_one_points[@]}" 20000 --iterations 20000
+    fi
+    [ -f "$full/vote/point_cloud.ply" ] || timed "voting" "$bin/op2gs-vote" "$dir/scene" "$full"
+    if [ ! -f "$full/learn/metrics.json" ]; then
+      resume=()
+      [ -f "$full/learn/checkpoints/latest.ckpt" ] && resume=(--resume)
+      timed "stage two" "$bin/op2gs-learn" "$dir/scene" "$full" "${resume[@]}" \
+        --keep-checkpoint-at 25000 --iterations 30000
+    fi
+    python3 "$here/full_schedule_summary.py" "$full" | tee "$full/summary.txt"
+    ;;
+  summary)
+    python3 "$here/full_schedule_summary.py" "$1/full"
     ;;
   sampled)
     build="$1" dir="$2" threads="${3:-0}"
@@ -184,7 +203,7 @@ PY
     time_from "$1" "$2" "$3" 0
     ;;
   *)
-    echo "bench/full_schedule.sh: unknown mode '$mode' (full, sampled, paired, threads or profile)" >&2
+    echo "bench/full_schedule.sh: unknown mode '$mode' (full, summary, sampled, paired, threads or profile)" >&2
     exit 2
     ;;
 esac
