@@ -116,6 +116,8 @@ time_from() {  # BUILD DIR K THREADS
 }
 
 # Reads "K seconds-per-iteration" lines; prints the schedule's estimated time.
+# (The modes copy the raw lines to stderr with `tee >(cat >&2)`: `tee
+# /dev/stderr` would reopen a log that stderr is redirected to, truncating it.)
 integrate() {
   python3 "$here/full_schedule_integrate.py"
 }
@@ -163,7 +165,7 @@ case "$mode" in
     for k in "${points[@]}"; do
       r="$(time_from "$build" "$dir" "$k" "$threads")"
       [ -n "$r" ] && echo "$k $r"
-    done | tee /dev/stderr | integrate
+    done | tee >(cat >&2) | integrate
     ;;
   paired)
     old="$1" new="$2" dir="$3" threads="${4:-0}"
@@ -175,7 +177,7 @@ case "$mode" in
       b2="$(time_from "$new" "$dir" "$k" "$threads")"
       a2="$(time_from "$old" "$dir" "$k" "$threads")"
       echo "$k $a1 $a2 $b1 $b2"
-    done | tee /dev/stderr | python3 "$here/full_schedule_integrate.py" --paired
+    done | tee >(cat >&2) | python3 "$here/full_schedule_integrate.py" --paired
     ;;
   threads)
     build="$1" dir="$2"
@@ -187,7 +189,7 @@ case "$mode" in
       b2="$(time_from "$build" "$dir" "$k" 2)"
       a2="$(time_from "$build" "$dir" "$k" 1)"
       echo "$k $a1 $a2 $b1 $b2"
-    done | tee /dev/stderr | python3 "$here/full_schedule_integrate.py" --threads
+    done | tee >(cat >&2) | python3 "$here/full_schedule_integrate.py" --threads
     ;;
   profile)
     build="$1" dir="$2" k="$3"
