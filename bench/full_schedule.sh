@@ -68,6 +68,18 @@ print((r[-1]["elapsed_s"] - r[0]["elapsed_s"]) / (r[-1]["iteration"] - r[0]["ite
 PY
 }
 
+# Runs STAGE in TMP resumed from the full run's checkpoint of iteration k
+# (SUBDIR: where the stage keeps its checkpoints, "" or "learn/"); fails
+# when that checkpoint was not kept. Uses time_from's variables.
+resume_from() {  # TMP FULL SUBDIR STAGE
+  local kept="$2/$3checkpoints/iteration_$k.ckpt"
+  [ -f "$kept" ] || return 1
+  mkdir -p "$1/$3checkpoints"
+  ln -s "$kept" "$1/$3checkpoints/latest.ckpt"
+  run "$1" "$bin/$4" "$dir/scene" "$1" --resume --iterations "$stop" \
+    --checkpoint-every 1000000 --threads "$threads" $no_test
+}
+
 # Times SAMPLE iterations from iteration K (after WARMUP untimed ones) with
 # BUILD; prints seconds per iteration, or nothing when K's checkpoint is
 # missing.
@@ -85,11 +97,7 @@ time_from() {  # BUILD DIR K THREADS
       $no_test
     log="$tmp/train_log.jsonl"
   elif [ "$k" -lt 20000 ]; then
-    [ -f "$full/checkpoints/iteration_$k.ckpt" ] || { rm -rf "$tmp"; return; }
-    mkdir -p "$tmp/checkpoints"
-    ln -s "$full/checkpoints/iteration_$k.ckpt" "$tmp/checkpoints/latest.ckpt"
-    run "$tmp" "$bin/op2gs-train" "$dir/scene" "$tmp" --resume --iterations "$stop" \
-      --checkpoint-every 1000000 --threads "$threads" $no_test
+    resume_from "$tmp" "$full" "" op2gs-train || { rm -rf "$tmp"; return; }
     log="$tmp/train_log.jsonl"
   elif [ "$k" -eq 20000 ]; then
     [ -f "$full/vote/point_cloud.ply" ] || { rm -rf "$tmp"; return; }
@@ -98,11 +106,7 @@ time_from() {  # BUILD DIR K THREADS
       --checkpoint-every 1000000 --threads "$threads" $no_test
     log="$tmp/learn/train_log.jsonl"
   else
-    [ -f "$full/learn/checkpoints/iteration_$k.ckpt" ] || { rm -rf "$tmp"; return; }
-    mkdir -p "$tmp/learn/checkpoints"
-    ln -s "$full/learn/checkpoints/iteration_$k.ckpt" "$tmp/learn/checkpoints/latest.ckpt"
-    run "$tmp" "$bin/op2gs-learn" "$dir/scene" "$tmp" --resume --iterations "$stop" \
-      --checkpoint-every 1000000 --threads "$threads" $no_test
+    resume_from "$tmp" "$full" learn/ op2gs-learn || { rm -rf "$tmp"; return; }
     log="$tmp/learn/train_log.jsonl"
   fi
   if [ ! -f "$log" ]; then
