@@ -16,9 +16,13 @@
 # (op2gs-vote --join-switched-ids), tracks (and --find-merges), exposure
 # (op2gs-train --exposure-compensation), exposure+joined, exposure+tracks; and for the sensitivity study,
 # one value changed from the paper's: lambda-<lambda_o>, m-<M>, tau-<tau>,
-# init-<sigma* of every Gaussian at the start of stage two>.
+# init-<sigma* of every Gaussian at the start of stage two>. Pose variants:
+# fit (op2gs-render --fit-poses: the test views' cameras fitted to their
+# photos), poses (and op2gs-train --refine-poses), poses+tracks,
+# exposure+poses+tracks.
 # Environment: SCALE (schedule divisor), SYNTH (extra op2gs-synth options for
-# every condition, e.g. "--width 640 --height 480 --views 60").
+# every condition, e.g. "--width 640 --height 480 --views 60"), FIT_STEPS
+# (steps of each test view's pose fit, default 100).
 set -euo pipefail
 build="$(cd "$1" && pwd)"
 out="$2"
@@ -26,6 +30,7 @@ seeds="$3"
 shift 3
 scale="${SCALE:-4}"
 variants="${VARIANTS:-plain}"
+fit_steps="${FIT_STEPS:-100}"
 total=$((30000 / scale))
 stage_one=$((20000 / scale))
 densify_until=$((15000 / scale))
@@ -61,10 +66,34 @@ for condition in "$@"; do
           train_options=(--exposure-compensation)
           vote_options=(--join-switched-ids --find-merges)
           ;;
+        fit)
+          learn_options=(--fit-test-poses "$fit_steps")
+          render_options=(--fit-poses "$fit_steps")
+          ;;
+        poses)
+          train_options=(--refine-poses)
+          learn_options=(--fit-test-poses "$fit_steps")
+          render_options=(--fit-poses "$fit_steps")
+          ;;
+        poses+tracks)
+          train_options=(--refine-poses)
+          vote_options=(--join-switched-ids --find-merges)
+          learn_options=(--fit-test-poses "$fit_steps")
+          render_options=(--fit-poses "$fit_steps")
+          ;;
+        exposure+poses+tracks)
+          train_options=(--exposure-compensation --refine-poses)
+          vote_options=(--join-switched-ids --find-merges)
+          learn_options=(--fit-test-poses "$fit_steps")
+          render_options=(--fit-poses "$fit_steps")
+          ;;
         *) echo "unknown variant $variant" >&2; exit 2 ;;
       esac
       # Variants that train alike share stage one.
-      one="$dir/stage-one${train_options[*]:+-exposure}"
+      suffix=""
+      [[ " ${train_options[*]:-} " == *" --exposure-compensation "* ]] && suffix+="-exposure"
+      [[ " ${train_options[*]:-} " == *" --refine-poses "* ]] && suffix+="-poses"
+      one="$dir/stage-one$suffix"
       if [ ! -f "$one/metrics.json" ]; then
         echo "== $name seed $seed: stage one ${train_options[*]:-}"
         quiet "$bin/op2gs-train" "$dir/scene" "$one" --iterations "$stage_one" --schedule "$total" \

@@ -23,6 +23,17 @@ Camera Camera::resized(int new_width, int new_height) const {
   return c;
 }
 
+Camera moved_in_camera_frame(const Camera& camera, const Eigen::Vector3d& rho,
+                             const Eigen::Vector3d& omega) {
+  const double angle = omega.norm();
+  const Eigen::Matrix3d dR = angle > 0 ? Eigen::AngleAxisd(angle, omega / angle).toRotationMatrix()
+                                       : Eigen::Matrix3d::Identity();
+  Camera c = camera;
+  c.R = dR * camera.R;
+  c.t = dR * camera.t + rho;
+  return c;
+}
+
 Camera Camera::look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
                        const Eigen::Vector3d& up, int width, int height, double fx, double fy) {
   const Eigen::Vector3d forward = (target - eye).normalized();

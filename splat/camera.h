@@ -42,6 +42,13 @@ struct Camera {
                         const Eigen::Vector3d& up, int width, int height, double fx, double fy);
 };
 
+// The camera moved by a pose change given in its own frame: a world point's
+// camera coordinates become exp([omega]x) x_cam + rho (omega an axis-angle
+// vector). The parameterisation of pose refinement and of
+// GaussianGradients::camera.
+Camera moved_in_camera_frame(const Camera& camera, const Eigen::Vector3d& rho,
+                             const Eigen::Vector3d& omega);
+
 // COLMAP stores rotations as unit quaternions qw qx qy qz.
 Eigen::Matrix3d rotation_from_quaternion(const Eigen::Vector4d& qwxyz);
 Eigen::Vector4d quaternion_from_rotation(const Eigen::Matrix3d& R);

@@ -8,6 +8,7 @@
 
 #include "splat/colmap_model.h"
 #include "splat/error.h"
+#include "splat/pose_file.h"
 
 namespace splat {
 namespace fs = std::filesystem;
@@ -85,10 +86,20 @@ std::unique_ptr<Scene> Scene::load(const fs::path& root, const SceneOptions& opt
     scene->point_colors_.emplace_back(p.rgb[0] / 255.f, p.rgb[1] / 255.f, p.rgb[2] / 255.f);
   }
   scene->extent_ = scene_extent(scene->cameras());
+  if (!options.poses.empty()) scene->replace_poses(options.poses);
   Scene* raw = scene.get();
   scene->cache_ = std::make_unique<ViewCache>([raw](size_t i) { return raw->load_view(i); },
                                               options.cache_bytes);
   return scene;
+}
+
+void Scene::replace_poses(const fs::path& file) {
+  for (const NamedPose& p : read_pose_file(file)) {
+    const int v = find_view(p.name);
+    if (v < 0) throw InputError(file, fmt::format("image '{}' is not in the scene", p.name));
+    views_[size_t(v)].camera.R = p.R;
+    views_[size_t(v)].camera.t = p.t;
+  }
 }
 
 ImageRGB Scene::load_view(size_t i) const {

@@ -20,6 +20,10 @@ struct SceneOptions {
   int downscale = 1;                     // 1, 2, 4 or 8 (uses images_N/ if present)
   int max_width = 0;                     // if > 0, scale down so width <= max_width
   size_t cache_bytes = size_t(2) << 30;  // decoded views kept in memory
+  // If set, a pose file (pose_file.h) whose poses replace the COLMAP model's
+  // for the views it names: the poses refined by an earlier stage. The scene
+  // extent stays that of the model's poses.
+  std::filesystem::path poses;
 
   // Throws std::invalid_argument with a one-line message for bad values.
   void Check() const;
@@ -59,6 +63,7 @@ class Scene {
 
  private:
   ImageRGB load_view(size_t i) const;
+  void replace_poses(const std::filesystem::path& file);
 
   std::filesystem::path root_;
   std::vector<View> views_;

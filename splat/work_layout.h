@@ -40,6 +40,8 @@ struct TrainingLayout {
   std::filesystem::path test_renders() const { return test() / "renders"; }
   std::filesystem::path metrics() const { return root / "metrics.json"; }
   std::filesystem::path log() const { return root / "train_log.jsonl"; }
+  // The training views' refined poses (pose_file.h), with --refine-poses.
+  std::filesystem::path refined_poses() const { return root / "refined_poses.txt"; }
   std::filesystem::path curve() const { return root / "training_curve.png"; }
 };
 

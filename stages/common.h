@@ -99,6 +99,29 @@ inline void add_scene_options(
   app.add_option("--threads", threads, "worker threads (0: all cores)")->capture_default_str();
 }
 
+// --poses: a pose file (splat/pose_file.h) whose poses replace the COLMAP
+// model's, by default the refined poses an earlier stage wrote
+// (op2gs-train --refine-poses), "none" for the model's own.
+inline void add_poses_option(CLI::App& app, std::string& poses) {
+  app.add_option("--poses", poses,
+                 "refined camera poses to use instead of the COLMAP model's (default: the "
+                 "work folder's refined_poses.txt if a stage wrote one; none: the model's)");
+}
+
+// The pose file to use: the one given, else the first of the defaults that
+// exists (logged), else none.
+inline std::filesystem::path resolve_poses(const std::string& poses,
+                                           const std::vector<std::filesystem::path>& defaults) {
+  if (poses == "none") return {};
+  if (!poses.empty()) return poses;
+  for (const auto& file : defaults)
+    if (std::filesystem::exists(file)) {
+      spdlog::info("using the refined camera poses of {}", file.string());
+      return file;
+    }
+  return {};
+}
+
 // Where op2gs-embed and op2gs-query look for the CLIP files when --clip is
 // not given: $OP2GS_CLIP_DIR, else ~/.cache/op2gs/clip-vit-base-patch16
 // (scripts/get_clip.sh downloads them there).

@@ -35,9 +35,13 @@ int main(int argc, char** argv) {
       ->expected(3);
   app.add_option("--object", o.objects, "only these object IDs (default: all)");
   stages::add_scene_options(app, o.scene, split, threads);
+  std::string poses;
+  stages::add_poses_option(app, poses);
   return stages::run_stage(app, argc, argv, [&] {
     const stages::ThreadLimit limit(threads);
     const splat::WorkLayout w{work};
+    o.scene.poses = stages::resolve_poses(
+        poses, {w.stage_two().refined_poses(), w.stage_one().refined_poses()});
     o.model = stages::or_default(model, w.stage_two().latest_checkpoint());
     o.clip_dir = clip;
     o.split = stages::parse_split(split);

@@ -41,9 +41,17 @@ int main(int argc, char** argv) {
                  "an object's Gaussians have its label and sigma* at least this")
       ->capture_default_str();
   stages::add_scene_options(app, o.scene, split, threads);
+  std::string poses;
+  stages::add_poses_option(app, poses);
+  app.add_option("--fit-poses", o.fit_poses.iterations,
+                 "fit the camera of every view without a refined pose (the test views) to its "
+                 "photo with this many steps before rendering it (0: off)")
+      ->capture_default_str();
   return stages::run_stage(app, argc, argv, [&] {
     const stages::ThreadLimit limit(threads);
     const splat::WorkLayout w{work};
+    o.scene.poses = stages::resolve_poses(
+        poses, {w.stage_two().refined_poses(), w.stage_one().refined_poses()});
     o.model = stages::or_default(model, w.stage_two().latest_checkpoint());
     if (ply_object || ply_without) {
       ply.model = o.model;

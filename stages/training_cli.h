@@ -35,6 +35,16 @@ class TrainingCli {
     app.add_option("--exposure-regularization", o.train.exposure.regularization,
                    "weight of the pull of each view's transform towards the identity")
         ->capture_default_str();
+    app.add_flag("--refine-poses", o.train.poses.enabled,
+                 "learn a correction of every training view's camera pose (for poses a pixel or "
+                 "so off); writes refined_poses.txt, which the later stages use");
+    app.add_option("--refine-poses-from", o.train.poses.from_iteration,
+                   "the iteration pose refinement starts at")
+        ->capture_default_str();
+    app.add_option("--fit-test-poses", o.train.test_pose_fit.iterations,
+                   "before scoring a test view, fit its camera pose to its photo with this many "
+                   "steps, the model held fixed (0: off)")
+        ->capture_default_str();
     app.add_option("--cache-mb", cache_mb_, "decoded images kept in memory, MiB")
         ->capture_default_str();
   }

@@ -42,9 +42,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   stages::add_scene_options(app, o.scene, split, threads,
                             "downscale factor 1, 2, 4 or 8 of the baseline maps and previews");
+  std::string poses;
+  stages::add_poses_option(app, poses);
   return stages::run_stage(app, argc, argv, [&] {
     const stages::ThreadLimit limit(threads);
     const splat::WorkLayout w{work};
+    o.scene.poses = stages::resolve_poses(poses, {w.stage_one().refined_poses()});
     o.model = stages::or_default(model, w.stage_one().latest_checkpoint());
     o.split = stages::parse_split(split);
     o.vote.visibility = stages::parse_choice<splat::VoteVisibility>(

@@ -7,6 +7,8 @@
 #include <chrono>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <set>
+#include <string>
 
 #include "splat/atomic_file.h"
 #include "splat/checkpoint.h"
@@ -15,6 +17,7 @@
 #include "splat/label/palette.h"
 #include "splat/label/vote_run.h"
 #include "splat/photo_cameras.h"
+#include "splat/pose_file.h"
 #include "splat/render/renderer.h"
 
 namespace splat {
@@ -26,6 +29,7 @@ void RenderRunOptions::Check() const {
   if (!(tau > 0 && tau < 1)) throw std::invalid_argument("tau must be in (0, 1)");
   for (int32_t id : objects)
     if (id <= 0) throw std::invalid_argument("object IDs must be > 0");
+  fit_poses.Check();
 }
 
 namespace {
@@ -156,6 +160,28 @@ PhotoCameras photo_cameras_to_use(const fs::path& scene_dir, PhotoGeometryMode m
   return {};
 }
 
+// Fits the cameras of the shots of scene views without a refined pose to
+// their photos, and writes the fitted poses to out/fitted_poses.txt.
+void fit_shot_poses(Scene& scene, const GaussianModel& model, const Renderer& renderer,
+                    const RenderSettings& settings, const RenderRunOptions& o, const fs::path& out,
+                    std::vector<Shot>& shots) {
+  std::set<std::string> refined;
+  if (!o.scene.poses.empty())
+    for (const NamedPose& p : read_pose_file(o.scene.poses)) refined.insert(p.name);
+  std::vector<NamedPose> fitted;
+  for (Shot& shot : shots) {
+    if (shot.view < 0) continue;
+    const std::string& name = scene.views()[size_t(shot.view)].name;
+    if (refined.count(name)) continue;
+    shot.camera = fit_camera_to_photo(renderer, model, shot.camera, *scene.image(size_t(shot.view)),
+                                      settings, scene.extent(), o.fit_poses);
+    fitted.push_back({name, shot.camera.R, shot.camera.t});
+  }
+  write_pose_file(out / "fitted_poses.txt", fitted);
+  spdlog::info("fitted the poses of {} views to their photos ({} steps each)", fitted.size(),
+               o.fit_poses.iterations);
+}
+
 }  // namespace
 
 RenderTiming run_render(const fs::path& scene_dir, const fs::path& out, const RenderRunOptions& o) {
@@ -168,7 +194,7 @@ RenderTiming run_render(const fs::path& scene_dir, const fs::path& out, const Re
     spdlog::warn("{} has no instance opacity: masks use sigma (the model of op2gs-vote)",
                  o.model.string());
   const auto scene = Scene::load(scene_dir, o.scene);
-  const std::vector<Shot> shots = shots_of(*scene, o);
+  std::vector<Shot> shots = shots_of(*scene, o);
   const PhotoCameras photos = photo_cameras_to_use(scene_dir, o.photo_geometry);
   const CpuRenderer renderer;
 
@@ -187,6 +213,9 @@ RenderTiming run_render(const fs::path& scene_dir, const fs::path& out, const Re
   label_map_only.color = label_map_only.depth = false;
   label_map_only.instance_labels.clear();
   label_map_only.all_instance_labels = label_map_only.baseline_label_map = false;
+
+  if (o.fit_poses.iterations > 0)
+    fit_shot_poses(*scene, model, renderer, color_only, o, out, shots);
 
   RenderTiming timing;
   RenderOutput r, scratch;

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "splat/render/pose_fit.h"
 #include "splat/scene.h"
 #include "splat/view_split.h"
 
@@ -55,6 +56,10 @@ struct RenderRunOptions {
   // Also write the masks and the instance label map of the scene's views in
   // the geometry of their photos, to lay over the photos themselves.
   PhotoGeometryMode photo_geometry = PhotoGeometryMode::kOff;
+  // The camera of every scene view without a refined pose (scene.poses)
+  // fitted to its photo first, the model held fixed: the test views of a
+  // model trained with --refine-poses. Written to fitted_poses.txt.
+  PoseFitOptions fit_poses;
   void Check() const;  // throws std::invalid_argument
 };
 

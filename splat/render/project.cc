@@ -3,7 +3,9 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "splat/render/fast_exp.h"
 #include "splat/render/sh.h"
@@ -361,9 +363,26 @@ Eigen::Vector4f quaternion_matrix_backward(const Eigen::Vector4f& q, const Mat3&
   return g;
 }
 
+// Adds to cam (rho, omega) the gradient of a camera-frame pose perturbation
+// x_cam' = exp([omega]x) x_cam + rho through Gaussian i: through its
+// camera-space centre pv (all of g_pv), through the rotation in T = J R
+// (gR_direct = dL/dR, holding J), and through the camera centre that the
+// view direction of its colour starts from (centre' = centre - R^T rho).
+void add_camera_gradient(const View& v, const Vec3& pv, const Vec3& g_pv, const Mat3& gR_direct,
+                         const Vec3& g_mean_color, double* cam) {
+  const Vec3 g_rho = g_pv + v.R * g_mean_color;
+  const Vec3 g_omega_center = pv.cross(g_pv);
+  const Mat3 H = gR_direct * v.R.transpose();
+  const Vec3 g_omega(H(2, 1) - H(1, 2), H(0, 2) - H(2, 0), H(1, 0) - H(0, 1));
+  for (int k = 0; k < 3; ++k) {
+    cam[k] += g_rho[k];
+    cam[3 + k] += g_omega_center[k] + g_omega[k];
+  }
+}
+
 void backward_one(const GaussianModel& m, const View& v, const RenderSettings& s,
                   const ProjectedGaussians& p, const ProjectedGradients& pg, size_t i,
-                  GaussianGradients& g) {
+                  GaussianGradients& g, double* cam) {
   const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
   const Vec3 pv = v.R * mean + v.t;
   const float x = pv.x(), y = pv.y(), z = pv.z();
@@ -409,6 +428,7 @@ void backward_one(const GaussianModel& m, const View& v, const RenderSettings& s
     g_pv.z() += -g_wc * y / (z * z);
   }
   Vec3 g_mean = v.R.transpose() * g_pv;
+  Vec3 g_mean_color = Vec3::Zero();
 
   // Sigma = M M^T, M = R diag(s).
   const Vec3 s_vec(std::exp(m.log_scales[3 * i]), std::exp(m.log_scales[3 * i + 1]),
@@ -442,9 +462,11 @@ void backward_one(const GaussianModel& m, const View& v, const RenderSettings& s
         for (int a = 0; a < 3; ++a) g_dir[a] += dbasis[k][a] * coeff * gc;
       }
     }
-    g_mean += (g_dir - dir * dir.dot(g_dir)) / dlen;
+    g_mean_color = (g_dir - dir * dir.dot(g_dir)) / dlen;
+    g_mean += g_mean_color;
   }
   for (int k = 0; k < 3; ++k) g.means[3 * i + k] = g_mean[k];
+  if (cam) add_camera_gradient(v, pv, g_pv, J.transpose() * gT, g_mean_color, cam);
 
   const float sigma = p.opacity[i];
   g.opacity_logits[i] = pg.opacity[i] * sigma * (1 - sigma);
@@ -461,16 +483,30 @@ void project_gaussians_backward(const GaussianModel& m, const Camera& cam, const
   g.resize(n);
   const View v(cam);
   const float half_w = 0.5f * cam.width, half_h = 0.5f * cam.height;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& range) {
-    for (size_t i = range.begin(); i < range.end(); ++i) {
-      zero_gradients(g, i);
-      if (!p.visible(i)) continue;
-      g.visible[i] = 1;
-      g.mean2d_ndc[2 * i] = pg.mean2d[2 * i] * half_w;
-      g.mean2d_ndc[2 * i + 1] = pg.mean2d[2 * i + 1] * half_h;
-      backward_one(m, v, s, p, pg, i, g);
-    }
-  });
+  // The camera gradient is summed per fixed chunk, then over the chunks in
+  // order, so that it does not depend on the thread schedule.
+  constexpr size_t kChunk = 4096;
+  const size_t chunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::array<double, 6>> cam_partial(s.camera_gradient ? chunks : 0);
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, chunks, 1),
+      [&](const auto& range) {
+        for (size_t c = range.begin(); c < range.end(); ++c) {
+          double* cam_sum = s.camera_gradient ? cam_partial[c].data() : nullptr;
+          for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
+            zero_gradients(g, i);
+            if (!p.visible(i)) continue;
+            g.visible[i] = 1;
+            g.mean2d_ndc[2 * i] = pg.mean2d[2 * i] * half_w;
+            g.mean2d_ndc[2 * i + 1] = pg.mean2d[2 * i + 1] * half_h;
+            backward_one(m, v, s, p, pg, i, g, cam_sum);
+          }
+        }
+      },
+      tbb::simple_partitioner());
+  g.camera.fill(0.0);
+  for (const auto& partial : cam_partial)
+    for (int k = 0; k < 6; ++k) g.camera[k] += partial[k];
 }
 
 }  // namespace splat

@@ -5,6 +5,7 @@
 // Conventions: pixel (x, y) is sampled at its centre (x + 0.5, y + 0.5) in
 // COLMAP pixel coordinates; images are row-major; colour is interleaved RGB.
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -41,6 +42,9 @@ struct RenderSettings {
   bool instance_label_map = false;
   // Ablation baseline: label of the Gaussian with the largest alpha_i T_i.
   bool baseline_label_map = false;
+  // Backward: also the gradient w.r.t. the camera pose
+  // (GaussianGradients::camera), for pose refinement.
+  bool camera_gradient = false;
 };
 
 // The images are ImageBuffers: cache-line aligned (whole-line streaming
@@ -82,6 +86,10 @@ struct GaussianGradients {
   // times half the image size on that axis): the densification statistic.
   std::vector<float> mean2d_ndc;  // 2N
   std::vector<uint8_t> visible;   // N: 1 if the Gaussian was rasterized
+  // With RenderSettings::camera_gradient: dLoss/d(rho, omega) of a pose
+  // perturbation applied in the camera frame, x_cam' = exp([omega]x) x_cam +
+  // rho, at rho = omega = 0 (the translation rho first). Zero otherwise.
+  std::array<double, 6> camera{};
 
   // Sizes every array for n Gaussians (values are left to the backward pass,
   // which writes all of them).

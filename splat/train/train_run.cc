@@ -5,12 +5,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "splat/atomic_file.h"
 #include "splat/error.h"
 #include "splat/ply.h"
+#include "splat/pose_file.h"
 #include "splat/train/training_log.h"
 #include "splat/work_layout.h"
 
@@ -127,13 +129,17 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
     return std::find(v.begin(), v.end(), it) != v.end();
   };
 
+  // The checkpoint, and beside it the refined poses the later stages read.
+  auto save_latest = [&] {
+    trainer.save_checkpoint(checkpoint);
+    if (trainer.refines_poses()) write_pose_file(out.refined_poses(), trainer.refined_poses());
+  };
   trainer.train_until(o.stop_at, [&](const IterationStats& s) {
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     log.record(s, elapsed);
     bar.update(s);
-    if (s.iteration % o.checkpoint_every == 0 && s.iteration != o.stop_at)
-      trainer.save_checkpoint(checkpoint);
+    if (s.iteration % o.checkpoint_every == 0 && s.iteration != o.stop_at) save_latest();
     if (is_in(o.keep_checkpoint_at, s.iteration))
       trainer.save_checkpoint(out.checkpoint_at(s.iteration));
     if (is_in(o.ply_at, s.iteration) && s.iteration != o.stop_at) write_ply_at(trainer, out);
@@ -141,8 +147,13 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
       log.record_test(s.iteration, trainer.evaluate(trainer.split().test));
   });
   bar.finish();
-  trainer.save_checkpoint(checkpoint);
+  save_latest();
   write_ply_at(trainer, out);
+  if (trainer.refines_poses()) {
+    const auto [angle, distance] = trainer.largest_pose_correction();
+    spdlog::info("refined poses in {}: the largest correction {:.3f} degrees, {:.4g} scene units",
+                 out.refined_poses().string(), angle * 180 / M_PI, distance);
+  }
 
   const std::vector<ViewMetrics> metrics =
       o.test_at_end ? trainer.evaluate(trainer.split().test, out.test_renders())

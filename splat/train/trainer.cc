@@ -18,6 +18,12 @@
 namespace splat {
 namespace fs = std::filesystem;
 
+void PoseRefinementOptions::Check() const {
+  if (from_iteration < 1) throw std::invalid_argument("pose refinement must start at >= 1");
+  for (float lr : {lr_rotation_init, lr_rotation_final, lr_translation_init, lr_translation_final})
+    if (!(lr > 0)) throw std::invalid_argument("pose refinement learning rates must be > 0");
+}
+
 void TrainOptions::Check() const {
   scene.Check();
   auto fail = [](const std::string& s) { throw std::invalid_argument(s); };
@@ -25,6 +31,8 @@ void TrainOptions::Check() const {
   if (sh_degree < 0 || sh_degree > 3) fail("sh_degree must be 0..3");
   if (sh_increase_every < 1) fail("sh_increase_every must be >= 1");
   exposure.Check();
+  poses.Check();
+  test_pose_fit.Check();
   if (instance_opacity_init >= 1 || (instance_opacity_init >= 0 && instance_opacity_init <= 0))
     fail("the initial instance opacity must be in (0, 1), or negative for sigma's");
   if (densify_every < 1 || opacity_reset_every < 1) fail("densification intervals must be >= 1");
@@ -42,6 +50,32 @@ Trainer::Trainer(const fs::path& scene_dir, const TrainOptions& options)
   split_ = split_views(*scene_, options_.split);
   extent_ = scene_->extent();
   if (options_.exposure.enabled) exposure_ = ViewColorTransforms(scene_->views().size());
+  if (options_.poses.enabled) poses_ = ViewPoseCorrections(scene_->views().size());
+}
+
+Camera Trainer::camera_of(size_t view) const {
+  const Camera& camera = scene_->views()[view].camera;
+  return refines_poses() ? poses_.apply(view, camera) : camera;
+}
+
+std::vector<NamedPose> Trainer::refined_poses() const {
+  std::vector<NamedPose> poses;
+  if (!refines_poses()) return poses;
+  for (size_t v : split_.train) {
+    const Camera c = camera_of(v);
+    poses.push_back({scene_->views()[v].name, c.R, c.t});
+  }
+  return poses;
+}
+
+std::pair<double, double> Trainer::largest_pose_correction() const {
+  double angle = 0, distance = 0;
+  for (size_t v : split_.train) {
+    if (!refines_poses()) break;
+    angle = std::max(angle, poses_.angle(v));
+    distance = std::max(distance, poses_.distance(v));
+  }
+  return {angle, distance};
 }
 
 void Trainer::initialize_from_sfm() {
@@ -141,9 +175,10 @@ void Trainer::train_until(int until,
     st.sh_degree = sh_degree_;
 
     const size_t view = next_view();
-    const Camera& cam = scene_->views()[view].camera;
+    const Camera cam = camera_of(view);
     const auto target = scene_->image(view);
     RenderSettings settings = render_settings();
+    settings.camera_gradient = refines_poses() && it >= o.poses.from_iteration;
     const ObjectMap* objects = learns_instances() ? &object_map(view) : nullptr;
     if (objects) {
       st.objects = sample_objects(objects->objects, o.object_loss.objects_per_step, rng_);
@@ -175,6 +210,8 @@ void Trainer::train_until(int until,
                                   o.exposure.regularization);
     }
     renderer_.backward(model_, cam, settings, *render_state_, out_grads_, grads_);
+    if (settings.camera_gradient && it < o.total_iterations)
+      poses_.step(view, grads_.camera, pose_learning_rate(it));
 
     std::array<bool, kParamGroups> skip{};
     if (it < o.densify_until) {
@@ -213,7 +250,13 @@ std::vector<ViewMetrics> Trainer::evaluate(const std::vector<size_t>& views,
   settings.sh_degree = sh_degree_;
   for (size_t v : views) {
     const View& view = scene_->views()[v];
-    const RenderOutput out = renderer_.render(model_, view.camera, settings);
+    Camera camera = camera_of(v);
+    const bool fit = options_.test_pose_fit.iterations > 0 &&
+                     std::find(split_.train.begin(), split_.train.end(), v) == split_.train.end();
+    if (fit)
+      camera = fit_camera_to_photo(renderer_, model_, camera, *scene_->image(v), settings, extent_,
+                                   options_.test_pose_fit);
+    const RenderOutput out = renderer_.render(model_, camera, settings);
     const auto target = scene_->image(v);
     ViewMetrics m{view.name, psnr(out.color, target->data),
                   ssim(out.color, target->data, target->width, target->height),
@@ -235,6 +278,8 @@ std::vector<ViewMetrics> Trainer::evaluate(const std::vector<size_t>& views,
 namespace {
 // Marks the optional exposure section at the end of a checkpoint.
 constexpr std::string_view kExposureTag = "exposure-transforms-v1";
+// Marks the optional pose corrections section.
+constexpr std::string_view kPoseTag = "pose-corrections-v1";
 
 bool all_finite(const GaussianModel& m) {
   for (int g = 0; g < kParamGroups; ++g)
@@ -248,6 +293,16 @@ float Trainer::exposure_learning_rate(int iteration) const {
   const ExposureOptions& e = options_.exposure;
   const double t = std::clamp(double(iteration) / options_.total_iterations, 0.0, 1.0);
   return float(std::exp((1 - t) * std::log(e.lr_init) + t * std::log(e.lr_final)));
+}
+
+PoseStep Trainer::pose_learning_rate(int iteration) const {
+  const PoseRefinementOptions& p = options_.poses;
+  const double t = std::clamp(double(iteration) / options_.total_iterations, 0.0, 1.0);
+  auto decay = [t](float init, float final) {
+    return std::exp((1 - t) * std::log(init) + t * std::log(final));
+  };
+  return {float(decay(p.lr_rotation_init, p.lr_rotation_final)),
+          float(decay(p.lr_translation_init, p.lr_translation_final) * extent_)};
 }
 
 void Trainer::save_checkpoint(const fs::path& file) const {
@@ -277,6 +332,10 @@ void Trainer::save_checkpoint(const fs::path& file) const {
     write_vector(out, std::vector<char>(kExposureTag.begin(), kExposureTag.end()));
     exposure_.save(out);
   }
+  if (refines_poses()) {
+    write_vector(out, std::vector<char>(kPoseTag.begin(), kPoseTag.end()));
+    poses_.save(out);
+  }
   write_text_atomically(file, out.str());
 }
 
@@ -305,13 +364,21 @@ void Trainer::load_checkpoint(const fs::path& file) {
     for (size_t v : view_stack_)
       if (v >= scene_->views().size())
         throw InputError(file, "checkpoint refers to a missing view");
-    if (in.peek() != std::char_traits<char>::eof()) {
-      const std::vector<char> tag = read_vector<char>(in);
-      if (std::string(tag.begin(), tag.end()) != kExposureTag)
+    // Optional sections, each after its tag.
+    while (in.peek() != std::char_traits<char>::eof()) {
+      const std::vector<char> tag_chars = read_vector<char>(in);
+      const std::string tag(tag_chars.begin(), tag_chars.end());
+      if (tag == kExposureTag) {
+        exposure_.load(in);
+        if (exposure_.size() != scene_->views().size())
+          throw InputError(file, "the checkpoint's exposure transforms are for another scene");
+      } else if (tag == kPoseTag) {
+        poses_.load(in);
+        if (poses_.size() != scene_->views().size())
+          throw InputError(file, "the checkpoint's pose corrections are for another scene");
+      } else {
         throw InputError(file, "corrupt checkpoint: unknown section after the training state");
-      exposure_.load(in);
-      if (exposure_.size() != scene_->views().size())
-        throw InputError(file, "the checkpoint's exposure transforms are for another scene");
+      }
     }
   } catch (const InputError&) {
     throw;

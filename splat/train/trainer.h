@@ -17,10 +17,13 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "splat/checkpoint.h"
 #include "splat/gaussians.h"
+#include "splat/pose_file.h"
+#include "splat/render/pose_fit.h"
 #include "splat/render/renderer.h"
 #include "splat/scene.h"
 #include "splat/train/adam.h"
@@ -31,6 +34,24 @@
 #include "splat/view_split.h"
 
 namespace splat {
+
+// Pose refinement: a learned correction of every training view's camera pose
+// (render/pose_fit.h), for captures whose poses are a pixel or so off (video
+// frames with blur and rolling shutter), which otherwise blur the model and
+// its masks. Off by default: the reference recipe has none. The step sizes
+// decay log-linearly over the schedule, as the position's do.
+struct PoseRefinementOptions {
+  bool enabled = false;
+  // The model is a blur of large Gaussians before densification has given
+  // it detail; its pose gradients only start to mean something after that.
+  int from_iteration = 1000;
+  float lr_rotation_init = 2e-4f;  // radians per step
+  float lr_rotation_final = 2e-5f;
+  float lr_translation_init = 2e-4f;  // times the scene extent
+  float lr_translation_final = 2e-5f;
+
+  void Check() const;  // throws std::invalid_argument with a one-line message
+};
 
 struct TrainOptions {
   SceneOptions scene;
@@ -64,6 +85,12 @@ struct TrainOptions {
   // A learned colour transform per training view (exposure.h); off in the
   // reference recipe. A checkpoint made with it keeps it on.
   ExposureOptions exposure;
+  // Learned corrections of the training views' poses; a checkpoint made with
+  // them keeps them on.
+  PoseRefinementOptions poses;
+  // evaluate(): the test views' poses fitted to their photos first (as
+  // BARF evaluates models trained with pose refinement); off by default.
+  PoseFitOptions test_pose_fit;
 
   // Throws std::invalid_argument with a one-line message.
   void Check() const;
@@ -128,8 +155,16 @@ class Trainer {
   const TrainOptions& options() const { return options_; }
   float position_learning_rate(int iteration) const;
   float exposure_learning_rate(int iteration) const;
+  PoseStep pose_learning_rate(int iteration) const;  // translation in scene units
   bool compensates_exposure() const { return exposure_.size() > 0; }
   const ViewColorTransforms& exposure() const { return exposure_; }
+  bool refines_poses() const { return poses_.size() > 0; }
+  // The view's camera with its learned pose correction, if any.
+  Camera camera_of(size_t view) const;
+  // The training views' refined poses (pose_file.h), empty unless refining.
+  std::vector<NamedPose> refined_poses() const;
+  // The largest correction so far: rotation (radians) and translation.
+  std::pair<double, double> largest_pose_correction() const;
 
  private:
   size_t next_view();
@@ -166,6 +201,7 @@ class Trainer {
   ImageLossBuffers loss_buffers_;
   ViewColorTransforms exposure_;  // empty unless exposure compensation is on
   std::vector<float> exposed_;    // the render through the view's transform
+  ViewPoseCorrections poses_;     // empty unless pose refinement is on
 };
 
 }  // namespace splat

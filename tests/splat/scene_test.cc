@@ -2,9 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include "splat/colmap_model.h"
 #include "splat/error.h"
 #include "splat/image.h"
+#include "splat/pose_file.h"
 #include "tests/test_util.h"
 
 namespace splat {
@@ -50,6 +53,31 @@ TEST(Scene, LoadsViewsSortedByNameWithCameras) {
   const auto img = scene->image(2);
   EXPECT_EQ(img->width, 40);
   EXPECT_NEAR(img->data[0], 2 / 255.f, 1e-6);
+}
+
+TEST(Scene, APoseFileReplacesTheNamedViewsPosesOnly) {
+  TempDir dir;
+  make_scene(dir.path(), 3, 40, 30);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  write_pose_file(dir / "poses.txt", {{"v1001.png", R, {5, 6, 7}}});
+  SceneOptions o;
+  o.poses = dir / "poses.txt";
+  const auto scene = Scene::load(dir.path(), o);
+  EXPECT_TRUE(scene->views()[1].camera.R.isApprox(R, 1e-10));
+  EXPECT_TRUE(scene->views()[1].camera.t.isApprox(Eigen::Vector3d(5, 6, 7), 1e-10));
+  EXPECT_EQ(scene->views()[2].camera.t, Eigen::Vector3d(2, 0, 0));
+  EXPECT_NEAR(scene->extent(), 1.1, 1e-12);  // the model's poses'
+
+  write_pose_file(dir / "other.txt", {{"elsewhere.png", R, {0, 0, 0}}});
+  o.poses = dir / "other.txt";
+  try {
+    Scene::load(dir.path(), o);
+    FAIL() << "a pose for a view the scene lacks must be an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("other.txt: image 'elsewhere.png' is not in the scene"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Scene, DownscalesFullImagesWithAreaFilter) {

@@ -221,5 +221,52 @@ TEST(RendererBackward, Mean2dNdcIsPixelGradientTimesHalfImageSize) {
   EXPECT_GE(checked, 16);
 }
 
+TEST(RendererBackward, CameraGradientMatchesFiniteDifferences) {
+  // dLoss/d(rho, omega) of the camera's pose, through colour (with the view
+  // direction of SH), alpha and depth. (The object loss holds T_i constant,
+  // which a moved camera does not, so it has no finite-difference twin here.)
+  const GaussianModel m = smooth_scene(25);
+  const Camera cam = test_camera(40, 30);
+  RenderSettings s;
+  s.camera_gradient = true;
+  const size_t pixels = size_t(cam.width) * cam.height;
+  RenderOutputGradients g;
+  g.color = random_weights(3 * pixels, 8);
+  g.alpha = random_weights(pixels, 9);
+  g.depth = random_weights(pixels, 10);
+  const CpuRenderer renderer;
+  std::unique_ptr<RenderState> state;
+  renderer.render(m, cam, s, &state);
+  const GaussianGradients grads = renderer.backward(m, cam, s, *state, g);
+  const reference::Params base = reference::Params::from(m);
+  auto loss = [&](const Camera& c) {
+    const reference::Output o = reference::render(base, c, s);
+    return dot(g.color, o.color) + dot(g.alpha, o.alpha) + dot(g.depth, o.depth);
+  };
+  for (int k = 0; k < 6; ++k) {
+    const double h = 1e-6;
+    Eigen::Vector3d rho = Eigen::Vector3d::Zero(), omega = Eigen::Vector3d::Zero();
+    (k < 3 ? rho[k] : omega[k - 3]) = h;
+    const double up = loss(moved_in_camera_frame(cam, rho, omega));
+    const double down = loss(moved_in_camera_frame(cam, -rho, -omega));
+    const double expected = (up - down) / (2 * h);
+    EXPECT_GT(std::abs(expected), 1e-3) << "component " << k << " has no gradient in this scene";
+    EXPECT_NEAR(grads.camera[k], expected, 1e-2 * std::abs(expected) + 1e-3) << "component " << k;
+  }
+}
+
+TEST(RendererBackward, NoCameraGradientUnlessAsked) {
+  const GaussianModel m = random_scene(50, 26);
+  const Camera cam = test_camera(32, 24);
+  RenderSettings s;
+  RenderOutputGradients g;
+  g.color = random_weights(3 * size_t(cam.width) * cam.height, 12);
+  const CpuRenderer renderer;
+  std::unique_ptr<RenderState> state;
+  renderer.render(m, cam, s, &state);
+  const GaussianGradients grads = renderer.backward(m, cam, s, *state, g);
+  for (double v : grads.camera) EXPECT_EQ(v, 0.0);
+}
+
 }  // namespace
 }  // namespace splat

@@ -101,6 +101,47 @@ TEST(Trainer, ExposureCompensationResumesExactlyAndLearnsTransforms) {
   EXPECT_GT(moved, 0u);  // training views' transforms were learned
 }
 
+TEST(Trainer, PoseRefinementResumesExactlyAndMovesTheTrainingViews) {
+  TempDir dir;
+  TrainOptions o = quick_options();
+  o.poses.enabled = true;
+  o.poses.from_iteration = 50;
+  Trainer straight(tiny_scene(), o);
+  straight.initialize_from_sfm();
+  straight.train_until(120);
+  ASSERT_TRUE(straight.refines_poses());
+
+  Trainer first(tiny_scene(), o);
+  first.initialize_from_sfm();
+  first.train_until(80);
+  first.save_checkpoint(dir / "ckpt");
+  // The checkpoint keeps refinement on, even for a run not asking for it.
+  TrainOptions without = o;
+  without.poses.enabled = false;
+  Trainer resumed(tiny_scene(), without);
+  resumed.load_checkpoint(dir / "ckpt");
+  ASSERT_TRUE(resumed.refines_poses());
+  resumed.train_until(120);
+  EXPECT_TRUE(resumed.model() == straight.model());
+
+  const std::vector<NamedPose> poses = straight.refined_poses();
+  ASSERT_EQ(poses.size(), straight.split().train.size());
+  size_t moved = 0;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const size_t v = straight.split().train[k];
+    const Camera& given = straight.scene().views()[v].camera;
+    EXPECT_EQ(poses[k].name, straight.scene().views()[v].name);
+    EXPECT_EQ(poses[k].R, resumed.camera_of(v).R);
+    moved += !(poses[k].t == given.t);
+  }
+  EXPECT_GT(moved, 0u);
+  // Small corrections: well under a degree after a few steps.
+  EXPECT_LT(straight.largest_pose_correction().first, 0.01);
+  // Test views keep the model's poses.
+  for (size_t v : straight.split().test)
+    EXPECT_EQ(straight.camera_of(v).t, straight.scene().views()[v].camera.t);
+}
+
 TEST(Trainer, SameSeedSameModel) {
   Trainer a(tiny_scene(), quick_options()), b(tiny_scene(), quick_options());
   a.initialize_from_sfm();
