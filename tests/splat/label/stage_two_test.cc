@@ -20,9 +20,12 @@
 #include "splat/label/vote_run.h"
 #include "splat/photo_cameras.h"
 #include "splat/ply.h"
+#include "splat/pose_file.h"
 #include "splat/query/embed_run.h"
 #include "splat/query/query_run.h"
+#include "splat/scene.h"
 #include "splat/train/train_run.h"
+#include "splat/view_split.h"
 #include "splat/work_layout.h"
 #include "tests/test_util.h"
 #include "tests/tiny_scene.h"
@@ -145,6 +148,32 @@ TEST(StageTwo, RendersMasksLabelMapsAndObjectModels) {
   EXPECT_GT(object.size(), 0u);
   EXPECT_EQ(object.size() + rest.size(), m.size());
   for (int32_t l : object.labels) EXPECT_EQ(l, 1);
+}
+
+TEST(StageTwo, FitsThePosesOfTheViewsWithoutARefinedPose) {
+  TempDir a;
+  run_training(scene(), a / "learn", learn_options(320));
+  // The training views' poses as a stage with --refine-poses writes them.
+  const auto s = Scene::load(scene(), SceneOptions{});
+  const ViewSplit split = split_views(*s, SplitRule::kAuto);
+  std::vector<NamedPose> refined;
+  for (size_t v : split.train)
+    refined.push_back({s->views()[v].name, s->views()[v].camera.R, s->views()[v].camera.t});
+  write_pose_file(a / "refined_poses.txt", refined);
+  RenderRunOptions r;
+  r.model = a / "learn/checkpoints/latest.ckpt";
+  r.views = RenderViews::kAll;
+  r.scene.poses = a / "refined_poses.txt";
+  r.fit_poses.iterations = 20;
+  run_render(scene(), a / "render", r);
+  const std::vector<NamedPose> fitted = read_pose_file(a / "render/fitted_poses.txt");
+  ASSERT_EQ(fitted.size(), split.test.size());  // the test views only
+  for (size_t k = 0; k < fitted.size(); ++k) {
+    const Camera& given = s->views()[split.test[k]].camera;
+    EXPECT_EQ(fitted[k].name, s->views()[split.test[k]].name);
+    // The photos are renders of the true cameras: the fit moves little.
+    EXPECT_LT((fitted[k].t - given.t).norm(), 0.05 * s->extent());
+  }
 }
 
 // --photo-geometry moves the masks into the photos' cameras. Photos whose
