@@ -5,7 +5,9 @@
 // outputs follow it (docs/architecture.md draws the data flow).
 //
 //   <work>/sfm/                 op2gs-sfm; the scene the stages read is sfm/scene/
-//   <work>/checkpoints/ ...     op2gs-train: a training folder (TrainingLayout)
+//   <work>/checkpoints/ ...     op2gs-train: a training folder (TrainingLayout);
+//                               with --refine-poses also refined_poses.txt,
+//                               which vote, render and embed then use
 //   <work>/vote/                op2gs-vote: point_cloud.ply with labels,
 //                               summary.json, preview/, baseline/
 //   <work>/learn/               op2gs-learn: a training folder (TrainingLayout)

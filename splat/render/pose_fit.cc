@@ -96,6 +96,7 @@ Camera fit_camera_to_photo(const Renderer& renderer, const GaussianModel& model,
     throw std::invalid_argument("the photo's size differs from its camera's");
   settings.instance_labels.clear();
   settings.all_instance_labels = settings.instance_label_map = settings.baseline_label_map = false;
+  settings.color = true;
   settings.depth = false;
   settings.camera_gradient = true;
   ViewPoseCorrections correction(1);

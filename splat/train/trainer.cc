@@ -70,8 +70,8 @@ std::vector<NamedPose> Trainer::refined_poses() const {
 
 std::pair<double, double> Trainer::largest_pose_correction() const {
   double angle = 0, distance = 0;
+  if (!refines_poses()) return {angle, distance};
   for (size_t v : split_.train) {
-    if (!refines_poses()) break;
     angle = std::max(angle, poses_.angle(v));
     distance = std::max(distance, poses_.distance(v));
   }
