@@ -89,6 +89,21 @@ double dot(const std::vector<float>& w, const std::vector<double>& v) {
   return s;
 }
 
+// Random weights on colour, alpha and depth (seeds seed, seed + 1, seed + 2),
+// so that a scalar loss, weighted_sum, exercises all three outputs.
+RenderOutputGradients colour_alpha_depth_weights(const Camera& cam, unsigned seed) {
+  const size_t pixels = size_t(cam.width) * cam.height;
+  RenderOutputGradients g;
+  g.color = random_weights(3 * pixels, seed);
+  g.alpha = random_weights(pixels, seed + 1);
+  g.depth = random_weights(pixels, seed + 2);
+  return g;
+}
+
+double weighted_sum(const RenderOutputGradients& g, const reference::Output& o) {
+  return dot(g.color, o.color) + dot(g.alpha, o.alpha) + dot(g.depth, o.depth);
+}
+
 // A small scene where no ray terminates, so every output is smooth in the
 // parameters (termination is a step, which finite differences cannot see).
 GaussianModel smooth_scene(unsigned seed) {
@@ -106,21 +121,15 @@ TEST_P(GradientsMatchFiniteDifferences, ColourAlphaAndDepthLoss) {
   const Camera cam = test_camera(40, 30);
   RenderSettings s;
   s.background[0] = 0.3f, s.background[2] = 0.7f;
-  const size_t pixels = size_t(cam.width) * cam.height;
-  RenderOutputGradients g;
-  g.color = random_weights(3 * pixels, 1);
-  g.alpha = random_weights(pixels, 2);
-  g.depth = random_weights(pixels, 3);
+  const RenderOutputGradients g = colour_alpha_depth_weights(cam, 1);
   const CpuRenderer renderer;
   std::unique_ptr<RenderState> state;
   renderer.render(m, cam, s, &state);
   const GaussianGradients analytic = renderer.backward(m, cam, s, *state, g);
-  check_gradients(reference::Params::from(m), analytic,
-                  [&](const reference::Params& p) {
-                    const reference::Output o = reference::render(p, cam, s);
-                    return dot(g.color, o.color) + dot(g.alpha, o.alpha) + dot(g.depth, o.depth);
-                  },
-                  {"instance_opacity"});
+  check_gradients(
+      reference::Params::from(m), analytic,
+      [&](const reference::Params& p) { return weighted_sum(g, reference::render(p, cam, s)); },
+      {"instance_opacity"});
 }
 
 TEST_P(GradientsMatchFiniteDifferences, ObjectLossWithTransmittanceHeld) {
@@ -229,20 +238,13 @@ TEST(RendererBackward, CameraGradientMatchesFiniteDifferences) {
   const Camera cam = test_camera(40, 30);
   RenderSettings s;
   s.camera_gradient = true;
-  const size_t pixels = size_t(cam.width) * cam.height;
-  RenderOutputGradients g;
-  g.color = random_weights(3 * pixels, 8);
-  g.alpha = random_weights(pixels, 9);
-  g.depth = random_weights(pixels, 10);
+  const RenderOutputGradients g = colour_alpha_depth_weights(cam, 8);
   const CpuRenderer renderer;
   std::unique_ptr<RenderState> state;
   renderer.render(m, cam, s, &state);
   const GaussianGradients grads = renderer.backward(m, cam, s, *state, g);
   const reference::Params base = reference::Params::from(m);
-  auto loss = [&](const Camera& c) {
-    const reference::Output o = reference::render(base, c, s);
-    return dot(g.color, o.color) + dot(g.alpha, o.alpha) + dot(g.depth, o.depth);
-  };
+  auto loss = [&](const Camera& c) { return weighted_sum(g, reference::render(base, c, s)); };
   for (int k = 0; k < 6; ++k) {
     const double h = 1e-6;
     Eigen::Vector3d rho = Eigen::Vector3d::Zero(), omega = Eigen::Vector3d::Zero();
