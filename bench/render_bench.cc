@@ -148,6 +148,35 @@ void BM_ForwardBackward(benchmark::State& state) {
   report(state, out, c);
 }
 
+// Pose refinement's cost (op2gs-train --refine-poses): the backward pass
+// with the camera-pose gradient against without, alternated in one loop so
+// that the machine's drift cancels.
+void BM_CameraGradientRatio(benchmark::State& state) {
+  const Case c = case_of(state);
+  const GaussianModel m = scene_of(c);
+  const Camera cam = bench_camera(c.width, c.height);
+  RenderSettings plain, posed;
+  posed.camera_gradient = true;
+  std::unique_ptr<RenderState> rs;
+  const RenderOutput out = CpuRenderer().render(m, cam, plain, &rs);
+  RenderOutputGradients g;
+  g.color.assign(out.color.size(), 1e-3f);
+  GaussianGradients grads;
+  double t_plain = 0, t_posed = 0;
+  auto timed = [&](const RenderSettings& s) {
+    const auto t0 = std::chrono::steady_clock::now();
+    CpuRenderer().backward(m, cam, s, *rs, g, grads);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  timed(posed);  // sizes the gradient buffers outside the timing
+  for (auto _ : state) {
+    t_plain += timed(plain);
+    t_posed += timed(posed);
+  }
+  state.counters["camera_gradient/plain"] = t_posed / t_plain;
+  report(state, out, c);
+}
+
 // {Gaussians, resolution (1: 640x480, 2: 1280x960), scene (0: volume, 1: surface)}
 // Paired ratios against a colour render, alternating the two renders in one
 // loop so that the machine's drift cancels: the instance branch with M = 3
@@ -194,6 +223,7 @@ BENCHMARK(BM_LabelMapsOnly)->Apply(sizes);
 BENCHMARK(BM_InstanceCostRatios)->Apply(sizes);
 BENCHMARK(BM_Backward)->Apply(sizes);
 BENCHMARK(BM_ForwardBackward)->Apply(sizes);
+BENCHMARK(BM_CameraGradientRatio)->Apply(sizes);
 
 }  // namespace
 
