@@ -8,6 +8,7 @@
 
 #include "splat/colmap_model.h"
 #include "splat/error.h"
+#include "splat/packed_image.h"
 #include "splat/pose_file.h"
 
 namespace splat {
@@ -102,12 +103,12 @@ void Scene::replace_poses(const fs::path& file) {
   }
 }
 
-ImageRGB Scene::load_view(size_t i) const {
+PackedImageRGB Scene::load_view(size_t i) const {
   const View& v = views_.at(i);
-  ImageRGB image = read_image_rgb(v.file);
-  check_file_size(v, image.width, image.height);
-  if (image.width == v.camera.width && image.height == v.camera.height) return image;
-  return resize_area(image, v.camera.width, v.camera.height);
+  PackedImageRGB image = read_packed_image_rgb(v.file);
+  check_file_size(v, image.width(), image.height());
+  if (image.width() == v.camera.width && image.height() == v.camera.height) return image;
+  return PackedImageRGB::pack(resize_area(image.unpack(), v.camera.width, v.camera.height));
 }
 
 std::vector<Camera> Scene::cameras() const {

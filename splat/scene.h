@@ -19,7 +19,7 @@ struct SceneOptions {
   std::string sparse_dir = "sparse/0";   // COLMAP model, relative to the scene
   int downscale = 1;                     // 1, 2, 4 or 8 (uses images_N/ if present)
   int max_width = 0;                     // if > 0, scale down so width <= max_width
-  size_t cache_bytes = size_t(2) << 30;  // decoded views kept in memory
+  size_t cache_bytes = size_t(2) << 30;  // views kept in memory (packed: view_cache.h)
   // If set, a pose file (pose_file.h) whose poses replace the COLMAP model's
   // for the views it names: the poses refined by an earlier stage. The scene
   // extent stays that of the model's poses.
@@ -55,6 +55,8 @@ class Scene {
 
   // The decoded image of view i, exactly camera.width x camera.height.
   std::shared_ptr<const ImageRGB> image(size_t i) { return cache_->get(i); }
+  // The same into a buffer reused from view to view.
+  void image_into(size_t i, ImageRGB& out) { cache_->get_into(i, out); }
   const ViewCache& cache() const { return *cache_; }
 
   const std::vector<Eigen::Vector3d>& points() const { return points_; }
@@ -62,7 +64,7 @@ class Scene {
   double extent() const { return extent_; }
 
  private:
-  ImageRGB load_view(size_t i) const;
+  PackedImageRGB load_view(size_t i) const;
   void replace_poses(const std::filesystem::path& file);
 
   std::filesystem::path root_;

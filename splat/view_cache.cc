@@ -6,6 +6,12 @@ ViewCache::ViewCache(Loader loader, size_t max_bytes)
     : loader_(std::move(loader)), max_bytes_(max_bytes) {}
 
 std::shared_ptr<const ImageRGB> ViewCache::get(size_t index) {
+  return std::make_shared<const ImageRGB>(packed(index)->unpack());
+}
+
+void ViewCache::get_into(size_t index, ImageRGB& out) { packed(index)->unpack_into(out); }
+
+std::shared_ptr<const PackedImageRGB> ViewCache::packed(size_t index) {
   {
     std::lock_guard lock(mutex_);
     if (auto it = entries_.find(index); it != entries_.end()) {
@@ -14,7 +20,7 @@ std::shared_ptr<const ImageRGB> ViewCache::get(size_t index) {
     }
   }
   // Decode outside the lock so other threads can use cached views meanwhile.
-  auto image = std::make_shared<const ImageRGB>(loader_(index));
+  auto image = std::make_shared<const PackedImageRGB>(loader_(index));
   std::lock_guard lock(mutex_);
   ++loads_;
   if (auto it = entries_.find(index); it != entries_.end()) return it->second.image;

@@ -1,6 +1,8 @@
 #pragma once
 // A bounded, thread-safe, least-recently-used cache of decoded views, so that
 // a scene of thousands of views never needs all of them in memory at once.
+// Views are held packed (packed_image.h): 8-bit photos as their codes, a
+// quarter of their decoded floats.
 
 #include <cstddef>
 #include <functional>
@@ -10,20 +12,23 @@
 #include <unordered_map>
 
 #include "splat/image.h"
+#include "splat/packed_image.h"
 
 namespace splat {
 
 class ViewCache {
  public:
-  using Loader = std::function<ImageRGB(size_t index)>;
+  using Loader = std::function<PackedImageRGB(size_t index)>;
 
-  // max_bytes bounds the decoded pixels held; one view larger than the bound
+  // max_bytes bounds the packed pixels held; one view larger than the bound
   // is still returned, just not kept.
   ViewCache(Loader loader, size_t max_bytes);
 
-  // The image of view `index`, loaded on a miss. The returned pointer stays
-  // valid after eviction.
+  // The image of view `index`, loaded on a miss, as a new image of its own.
   std::shared_ptr<const ImageRGB> get(size_t index);
+  // The same into `out`: a buffer reused from view to view (the trainer's
+  // target image) is not reallocated.
+  void get_into(size_t index, ImageRGB& out);
 
   size_t bytes_held() const;
   size_t views_held() const;
@@ -31,6 +36,8 @@ class ViewCache {
   size_t max_bytes() const { return max_bytes_; }
 
  private:
+  // The packed view, loaded and inserted on a miss.
+  std::shared_ptr<const PackedImageRGB> packed(size_t index);
   void evict_to_fit_locked();
 
   Loader loader_;
@@ -38,7 +45,7 @@ class ViewCache {
   mutable std::mutex mutex_;
   std::list<size_t> lru_;  // front = most recently used
   struct Entry {
-    std::shared_ptr<const ImageRGB> image;
+    std::shared_ptr<const PackedImageRGB> image;
     std::list<size_t>::iterator position;
   };
   std::unordered_map<size_t, Entry> entries_;

@@ -176,7 +176,7 @@ void Trainer::train_until(int until,
 
     const size_t view = next_view();
     const Camera cam = camera_of(view);
-    const auto target = scene_->image(view);
+    scene_->image_into(view, target_);
     RenderSettings settings = render_settings();
     settings.camera_gradient = refines_poses() && it >= o.poses.from_iteration;
     const ObjectMap* objects = learns_instances() ? &object_map(view) : nullptr;
@@ -191,7 +191,7 @@ void Trainer::train_until(int until,
       exposure_.apply(view, render_out_.color, exposed_);
       shown = exposed_;
     }
-    st.loss = image_loss(shown, *target, o.loss, &out_grads_.color, &loss_buffers_);
+    st.loss = image_loss(shown, target_, o.loss, &out_grads_.color, &loss_buffers_);
     if (objects)
       st.object_loss = object_loss(render_out_.instance_maps, render_out_.instance_map_labels,
                                    objects->ids, o.object_loss.weight, &out_grads_.instance_maps);

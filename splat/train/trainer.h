@@ -196,6 +196,7 @@ class Trainer {
   // Reused from iteration to iteration.
   std::unique_ptr<RenderState> render_state_;
   RenderOutput render_out_;
+  ImageRGB target_;  // the training view's photo, reused
   RenderOutputGradients out_grads_;
   GaussianGradients grads_;
   ImageLossBuffers loss_buffers_;

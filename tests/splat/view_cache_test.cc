@@ -2,16 +2,26 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <thread>
 
 namespace splat {
 namespace {
 
-ImageRGB image_of(size_t index) {
+// Values that are no 8-bit code, so the cache keeps them as floats.
+PackedImageRGB image_of(size_t index) {
   ImageRGB im(10, 10);  // 1200 bytes
+  std::fill(im.data.begin(), im.data.end(), 0.3f);
   im.data[0] = float(index);
-  return im;
+  return PackedImageRGB::pack(im);
+}
+
+// An 8-bit photo's values: the cache keeps its codes, a quarter of the bytes.
+PackedImageRGB photo_of(size_t index) {
+  ImageRGB im(10, 10);
+  im.data[0] = code_value(uint8_t(index));
+  return PackedImageRGB::pack(im);
 }
 
 TEST(ViewCache, HoldsAtMostTheBudget) {
@@ -48,6 +58,24 @@ TEST(ViewCache, OversizedViewIsReturnedButNotKept) {
   ViewCache cache(image_of, 100);
   EXPECT_EQ(cache.get(5)->data[0], 5.f);
   EXPECT_EQ(cache.views_held(), 0u);
+}
+
+TEST(ViewCache, HoldsFourTimesAsManyEightBitViews) {
+  ViewCache cache(photo_of, 3 * 1200);
+  for (size_t i = 0; i < 12; ++i) cache.get(i);
+  EXPECT_EQ(cache.views_held(), 12u);
+  EXPECT_EQ(cache.bytes_held(), 12u * 300);
+  for (size_t i = 0; i < 12; ++i) EXPECT_EQ(cache.get(i)->data[0], code_value(uint8_t(i)));
+  EXPECT_EQ(cache.loads(), 12u);
+}
+
+TEST(ViewCache, GetIntoWritesTheView) {
+  ViewCache cache(image_of, 3 * 1200);
+  ImageRGB out;
+  cache.get_into(7, out);
+  EXPECT_EQ(out.width, 10);
+  EXPECT_EQ(out.data[0], 7.f);
+  EXPECT_EQ(out.data[1], 0.3f);
 }
 
 TEST(ViewCache, ConcurrentReadersGetCorrectImages) {
