@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "splat/parallel_fill.h"
 #include "splat/render/project.h"
 #include "splat/render/rasterize.h"
 #include "splat/render/tile_bins.h"
@@ -56,8 +57,10 @@ void check_settings(const RenderSettings& s, const Camera& camera) {
 // Which labels get an occupancy map, and the plane of each label.
 void plan_instance_maps(const GaussianModel& m, const RenderSettings& s, RasterState& st,
                         RenderOutput& out) {
-  st.labels.assign(m.size(), 0);
-  if (m.has_labels) std::copy(m.labels.begin(), m.labels.end(), st.labels.begin());
+  if (m.has_labels)
+    st.labels.assign(m.labels.begin(), m.labels.end());
+  else
+    parallel_assign(st.labels, m.size(), 0);
   out.instance_map_labels.clear();
   if (s.all_instance_labels) {
     std::vector<bool> present;

@@ -160,6 +160,7 @@ RenderSettings Trainer::render_settings() const {
   RenderSettings s;
   std::copy_n(options_.background, 3, s.background);
   s.sh_degree = sh_degree_;
+  s.depth = false;  // no loss term reads it
   return s;
 }
 
