@@ -12,12 +12,12 @@ import sys
 from collections import defaultdict
 
 PHASES = [
-    ("projection backward", r"project_gaussians_backward|project_backward"),
+    ("projection backward", r"project_gaussians_backward|project_backward|backward_one"),
     ("projection + SH colour", r"project_gaussians|project_geometry|project_extents|sh_basis|"
                                r"sh_colou?r|fast_exp"),
     ("binning (tile lists, depth sort)", r"bin_gaussians|radix_sort|depth_key|tile_bins"),
     ("rasterize forward", r"rasterize_forward|gather_with_blocks|TileGaussians|blend_block"),
-    ("rasterize backward", r"rasterize_backward|backward_tile|backward_band|backward_one"),
+    ("rasterize backward", r"rasterize_backward|backward_tile|backward_band"),
     ("loss (L1 + SSIM)", r"image_loss|ssim|blur|gaussian_window|psnr|rgb_channel"),
     ("Adam", r"GaussianAdam|adam_update"),
     ("densification", r"densify|DensificationStats|prune|reset_opacity|append_copy|max_scale"),
