@@ -270,5 +270,40 @@ TEST(RendererBackward, NoCameraGradientUnlessAsked) {
   for (double v : grads.camera) EXPECT_EQ(v, 0.0);
 }
 
+// Without the camera's gradient the Gaussians' geometry goes back a batch of
+// 16 at a time (project.cc's backward_geometry); with it, one at a time
+// (backward_one). The two write the same gradients up to float rounding,
+// for every Gaussian of a scene with culled ones, clamped Jacobians and a
+// partial last batch (50 Gaussians).
+TEST(RendererBackward, BatchedGeometryMatchesOneAtATime) {
+  const GaussianModel m = random_scene(50, 27);
+  const Camera cam = test_camera(32, 24);
+  RenderOutputGradients g = colour_alpha_depth_weights(cam, 31);
+  const CpuRenderer renderer;
+  RenderSettings batched;
+  RenderSettings one_at_a_time;
+  one_at_a_time.camera_gradient = true;
+  std::unique_ptr<RenderState> state;
+  renderer.render(m, cam, batched, &state);
+  const GaussianGradients a = renderer.backward(m, cam, batched, *state, g);
+  const GaussianGradients b = renderer.backward(m, cam, one_at_a_time, *state, g);
+  EXPECT_EQ(a.visible, b.visible);
+  size_t visible = 0, culled = 0;
+  for (uint8_t v : a.visible) (v ? visible : culled)++;
+  EXPECT_GT(visible, 10u);
+  EXPECT_GT(culled, 0u);
+  const auto arrays_a = gradient_arrays(a), arrays_b = gradient_arrays(b);
+  for (size_t k = 0; k < arrays_a.size(); ++k) {
+    const std::vector<float>&x = *arrays_a[k], &y = *arrays_b[k];
+    ASSERT_EQ(x.size(), y.size());
+    float scale = 0;
+    for (float v : y) scale = std::max(scale, std::abs(v));
+    for (size_t i = 0; i < x.size(); ++i)
+      ASSERT_NEAR(x[i], y[i], 1e-4f * scale + 1e-4f * std::abs(y[i]))
+          << kArrayNames[k] << "[" << i << "]";
+  }
+  EXPECT_EQ(a.mean2d_ndc, b.mean2d_ndc);
+}
+
 }  // namespace
 }  // namespace splat
