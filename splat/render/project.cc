@@ -392,16 +392,26 @@ Vec3 backward_color(const GaussianModel& m, const View& v, const RenderSettings&
   float basis[kShCoeffs], dbasis[kShCoeffs][3];
   sh_basis(s.sh_degree, dir.data(), basis, dbasis);
   const int n = (s.sh_degree + 1) * (s.sh_degree + 1);
-  Vec3 g_dir = Vec3::Zero();
+  float gc[3];
   for (int c = 0; c < 3; ++c) {
-    const float gc = p.color_clamped[3 * i + c] ? 0.f : pg.color[3 * i + c];
-    g.sh_dc[3 * i + c] = basis[0] * gc;
-    for (int k = 1; k < n; ++k) {
-      g.sh_rest[kShRestFloats * i + 3 * (k - 1) + c] = basis[k] * gc;
-      const float coeff = m.sh_rest[kShRestFloats * i + 3 * (k - 1) + c];
-      for (int a = 0; a < 3; ++a) g_dir[a] += dbasis[k][a] * coeff * gc;
-    }
+    gc[c] = p.color_clamped[3 * i + c] ? 0.f : pg.color[3 * i + c];
+    g.sh_dc[3 * i + c] = basis[0] * gc[c];
   }
+  // Coefficient by coefficient, in memory order; each one's colour weighted
+  // by its gradient (summed over the channels) moves the view direction.
+  float* g_rest = &g.sh_rest[kShRestFloats * i];
+  const float* rest = &m.sh_rest[kShRestFloats * i];
+  Vec3 g_dir = Vec3::Zero();
+  for (int k = 1; k < n; ++k) {
+    float weighted = 0.f;
+    for (int c = 0; c < 3; ++c) {
+      g_rest[3 * (k - 1) + c] = basis[k] * gc[c];
+      weighted += rest[3 * (k - 1) + c] * gc[c];
+    }
+    for (int a = 0; a < 3; ++a) g_dir[a] += dbasis[k][a] * weighted;
+  }
+  // The bands above the active degree get no gradient.
+  std::fill(g_rest + 3 * (n - 1), g_rest + kShRestFloats, 0.f);
   return (g_dir - dir * dir.dot(g_dir)) / dlen;
 }
 
@@ -643,7 +653,7 @@ void backward_batch(const GaussianModel& m, const View& v, const RenderSettings&
                     size_t count, float half_w, float half_h, GaussianGradients& g) {
   bool any_visible = false;
   for (size_t i = first; i < first + count; ++i) {
-    zero_gradients(g, i);
+    if (!p.visible(i)) zero_gradients(g, i);  // visible ones have every field written below
     any_visible |= p.visible(i);
   }
   if (!any_visible) return;
@@ -676,7 +686,13 @@ void backward_batch(const GaussianModel& m, const View& v, const RenderSettings&
     g.mean2d_ndc[2 * i] = pg.mean2d[2 * i] * half_w;
     g.mean2d_ndc[2 * i + 1] = pg.mean2d[2 * i + 1] * half_h;
     const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
-    const Vec3 g_mean_color = s.color ? backward_color(m, v, s, p, pg, i, mean, g) : Vec3::Zero();
+    Vec3 g_mean_color = Vec3::Zero();
+    if (s.color) {
+      g_mean_color = backward_color(m, v, s, p, pg, i, mean, g);
+    } else {
+      std::fill_n(&g.sh_dc[3 * i], 3, 0.f);
+      std::fill_n(&g.sh_rest[kShRestFloats * i], kShRestFloats, 0.f);
+    }
     for (int k = 0; k < 3; ++k) {
       g.means[3 * i + k] = geometry.mean[k][l] + g_mean_color[k];
       g.log_scales[3 * i + k] = geometry.log_scale[k][l];

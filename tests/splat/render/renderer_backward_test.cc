@@ -305,5 +305,37 @@ TEST(RendererBackward, BatchedGeometryMatchesOneAtATime) {
   EXPECT_EQ(a.mean2d_ndc, b.mean2d_ndc);
 }
 
+// The batches write every gradient of every Gaussian, culled or not, SH
+// bands above the active degree included (the trainer reuses its gradient
+// arrays from view to view): nothing of a NaN-filled output survives.
+TEST(RendererBackward, BatchedBackwardWritesEveryGradient) {
+  const GaussianModel m = random_scene(50, 28);
+  const Camera cam = test_camera(32, 24);
+  const CpuRenderer renderer;
+  for (const bool colour : {true, false}) {
+    RenderSettings s;
+    s.sh_degree = 1;
+    s.color = colour;
+    RenderOutputGradients g = colour_alpha_depth_weights(cam, 41);
+    if (!colour) g.color.clear();
+    std::unique_ptr<RenderState> state;
+    renderer.render(m, cam, s, &state);
+    GaussianGradients out;
+    out.resize(m.size());
+    for (auto* a : gradient_arrays(out))
+      const_cast<std::vector<float>*>(a)->assign(a->size(), std::nanf(""));
+    out.mean2d_ndc.assign(out.mean2d_ndc.size(), std::nanf(""));
+    renderer.backward(m, cam, s, *state, g, out);
+    const GaussianGradients fresh = renderer.backward(m, cam, s, *state, g);
+    const auto written = gradient_arrays(out), expected = gradient_arrays(fresh);
+    for (size_t k = 0; k < written.size(); ++k)
+      for (size_t i = 0; i < written[k]->size(); ++i)
+        ASSERT_EQ((*written[k])[i], (*expected[k])[i]) << kArrayNames[k] << "[" << i << "]";
+    for (size_t i = 0; i < m.size(); ++i)
+      for (int k = 9; k < kShRestFloats; ++k) ASSERT_EQ(out.sh_rest[kShRestFloats * i + k], 0.f);
+    EXPECT_EQ(out.mean2d_ndc, fresh.mean2d_ndc);
+  }
+}
+
 }  // namespace
 }  // namespace splat
