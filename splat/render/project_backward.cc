@@ -1,0 +1,496 @@
+#include "splat/render/project.h"
+
+// The backward pass of step 1 (project.h): from the projected quantities'
+// gradients to the Gaussians' parameters.
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "splat/parallel_fill.h"
+#include "splat/render/fast_exp.h"
+#include "splat/render/projection_view.h"
+#include "splat/render/sh.h"
+
+namespace splat {
+
+using Mat3 = Eigen::Matrix3f;
+using Vec3 = Eigen::Vector3f;
+using Mat23 = Eigen::Matrix<float, 2, 3>;
+void GaussianGradients::resize(size_t n) {
+  means.resize(3 * n);
+  sh_dc.resize(3 * n);
+  sh_rest.resize(kShRestFloats * n);
+  opacity_logits.resize(n);
+  log_scales.resize(3 * n);
+  rotations.resize(4 * n);
+  instance_opacity_logits.resize(n);
+  mean2d_ndc.resize(2 * n);
+  visible.resize(n);
+}
+
+namespace {
+// Zeroes the gradients of Gaussian i (culled, or SH beyond the active degree).
+void zero_gradients(GaussianGradients& g, size_t i) {
+  std::fill_n(&g.means[3 * i], 3, 0.f);
+  std::fill_n(&g.sh_dc[3 * i], 3, 0.f);
+  std::fill_n(&g.sh_rest[kShRestFloats * i], kShRestFloats, 0.f);
+  g.opacity_logits[i] = g.instance_opacity_logits[i] = 0.f;
+  std::fill_n(&g.log_scales[3 * i], 3, 0.f);
+  std::fill_n(&g.rotations[4 * i], 4, 0.f);
+  std::fill_n(&g.mean2d_ndc[2 * i], 2, 0.f);
+  g.visible[i] = 0;
+}
+}  // namespace
+
+void ProjectedGradients::resize(size_t n) {
+  parallel_assign(mean2d, 2 * n, 0.f);
+  parallel_assign(conic, 3 * n, 0.f);
+  parallel_assign(depth, n, 0.f);
+  parallel_assign(color, 3 * n, 0.f);
+  parallel_assign(opacity, n, 0.f);
+  parallel_assign(instance_opacity, n, 0.f);
+}
+
+namespace {
+
+constexpr int kBatch = kProjectionBatch;
+
+// Rotation matrix of the normalised quaternion w x y z.
+Mat3 quaternion_matrix(float w, float x, float y, float z) {
+  Mat3 R;
+  R << 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y), 2 * (x * y + w * z),
+      1 - 2 * (x * x + z * z), 2 * (y * z - w * x), 2 * (x * z - w * y), 2 * (y * z + w * x),
+      1 - 2 * (x * x + y * y);
+  return R;
+}
+
+// The projection Jacobian at camera-space point pv, with the reference's
+// clamp of the projected direction at 1.3 tan(fov/2).
+Mat23 projection_jacobian(const ProjectionView& v, const Vec3& pv) {
+  const float z = pv.z();
+  const float uc = std::clamp(pv.x() / z, -v.lim_x, v.lim_x);
+  const float wc = std::clamp(pv.y() / z, -v.lim_y, v.lim_y);
+  Mat23 J;
+  J << v.fx / z, 0, -v.fx * uc / z, 0, v.fy / z, -v.fy * wc / z;
+  return J;
+}
+
+Mat3 world_covariance(const GaussianModel& m, size_t i, Mat3* rotation = nullptr) {
+  const float* q = &m.rotations[4 * i];
+  const float qn = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  const Mat3 R = quaternion_matrix(q[0] / qn, q[1] / qn, q[2] / qn, q[3] / qn);
+  if (rotation) *rotation = R;
+  const Vec3 s(std::exp(m.log_scales[3 * i]), std::exp(m.log_scales[3 * i + 1]),
+               std::exp(m.log_scales[3 * i + 2]));
+  const Mat3 M = R * s.asDiagonal();
+  return M * M.transpose();
+}
+
+}  // namespace
+
+namespace {
+
+// d R(q) / d q for the normalised quaternion, contracted with dL/dR.
+Eigen::Vector4f quaternion_matrix_backward(const Eigen::Vector4f& q, const Mat3& gR) {
+  const float w = q[0], x = q[1], y = q[2], z = q[3];
+  Eigen::Vector4f g;
+  g[0] = 2 *
+         (-z * gR(0, 1) + y * gR(0, 2) + z * gR(1, 0) - x * gR(1, 2) - y * gR(2, 0) + x * gR(2, 1));
+  g[1] = 2 * (y * gR(0, 1) + z * gR(0, 2) + y * gR(1, 0) - 2 * x * gR(1, 1) - w * gR(1, 2) +
+              z * gR(2, 0) + w * gR(2, 1) - 2 * x * gR(2, 2));
+  g[2] = 2 * (-2 * y * gR(0, 0) + x * gR(0, 1) + w * gR(0, 2) + x * gR(1, 0) + z * gR(1, 2) -
+              w * gR(2, 0) + z * gR(2, 1) - 2 * y * gR(2, 2));
+  g[3] = 2 * (-2 * z * gR(0, 0) - w * gR(0, 1) + x * gR(0, 2) + w * gR(1, 0) - 2 * z * gR(1, 1) +
+              y * gR(1, 2) + x * gR(2, 0) + y * gR(2, 1));
+  return g;
+}
+
+// Adds to cam (rho, omega) the gradient of a camera-frame pose perturbation
+// x_cam' = exp([omega]x) x_cam + rho through Gaussian i: through its
+// camera-space centre pv (all of g_pv), through the rotation in T = J R
+// (gR_direct = dL/dR, holding J), and through the camera centre that the
+// view direction of its colour starts from (centre' = centre - R^T rho).
+void add_camera_gradient(const ProjectionView& v, const Vec3& pv, const Vec3& g_pv,
+                         const Mat3& gR_direct, const Vec3& g_mean_color, double* cam) {
+  const Vec3 g_rho = g_pv + v.R * g_mean_color;
+  const Vec3 g_omega_center = pv.cross(g_pv);
+  const Mat3 H = gR_direct * v.R.transpose();
+  const Vec3 g_omega(H(2, 1) - H(1, 2), H(0, 2) - H(2, 0), H(1, 0) - H(0, 1));
+  for (int k = 0; k < 3; ++k) {
+    cam[k] += g_rho[k];
+    cam[3 + k] += g_omega_center[k] + g_omega[k];
+  }
+}
+
+// The colour's gradients: the SH coefficients' (written to g) and, through
+// the view direction, the mean's (returned).
+Vec3 backward_color(const GaussianModel& m, const ProjectionView& v, const RenderSettings& s,
+                    const ProjectedGaussians& p, const ProjectedGradients& pg, size_t i,
+                    const Vec3& mean, GaussianGradients& g) {
+  const Vec3 d = mean - v.center;
+  const float dlen = d.norm();
+  const Vec3 dir = d / dlen;
+  float basis[kShCoeffs], dbasis[kShCoeffs][3];
+  sh_basis(s.sh_degree, dir.data(), basis, dbasis);
+  const int n = (s.sh_degree + 1) * (s.sh_degree + 1);
+  float gc[3];
+  for (int c = 0; c < 3; ++c) {
+    gc[c] = p.color_clamped[3 * i + c] ? 0.f : pg.color[3 * i + c];
+    g.sh_dc[3 * i + c] = basis[0] * gc[c];
+  }
+  // Coefficient by coefficient, in memory order; each one's colour weighted
+  // by its gradient (summed over the channels) moves the view direction.
+  float* g_rest = &g.sh_rest[kShRestFloats * i];
+  const float* rest = &m.sh_rest[kShRestFloats * i];
+  Vec3 g_dir = Vec3::Zero();
+  for (int k = 1; k < n; ++k) {
+    float weighted = 0.f;
+    for (int c = 0; c < 3; ++c) {
+      g_rest[3 * (k - 1) + c] = basis[k] * gc[c];
+      weighted += rest[3 * (k - 1) + c] * gc[c];
+    }
+    for (int a = 0; a < 3; ++a) g_dir[a] += dbasis[k][a] * weighted;
+  }
+  // The bands above the active degree get no gradient.
+  std::fill(g_rest + 3 * (n - 1), g_rest + kShRestFloats, 0.f);
+  return (g_dir - dir * dir.dot(g_dir)) / dlen;
+}
+
+// From the activated opacities to their logits.
+void backward_opacities(const ProjectedGaussians& p, const ProjectedGradients& pg, size_t i,
+                        GaussianGradients& g) {
+  const float sigma = p.opacity[i];
+  g.opacity_logits[i] = pg.opacity[i] * sigma * (1 - sigma);
+  const float sigma_star = p.instance_opacity[i];
+  g.instance_opacity_logits[i] = pg.instance_opacity[i] * sigma_star * (1 - sigma_star);
+}
+
+void backward_one(const GaussianModel& m, const ProjectionView& v, const RenderSettings& s,
+                  const ProjectedGaussians& p, const ProjectedGradients& pg, size_t i,
+                  GaussianGradients& g, double* cam) {
+  const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
+  const Vec3 pv = v.R * mean + v.t;
+  const float x = pv.x(), y = pv.y(), z = pv.z();
+  Vec3 g_pv(0, 0, pg.depth[i]);
+
+  // 2D mean: u = fx x / z + cx, v = fy y / z + cy.
+  const float gu = pg.mean2d[2 * i], gw = pg.mean2d[2 * i + 1];
+  g_pv.x() += gu * v.fx / z;
+  g_pv.y() += gw * v.fy / z;
+  g_pv.z() += -gu * v.fx * x / (z * z) - gw * v.fy * y / (z * z);
+
+  // Conic (inverse of the low-passed 2D covariance) -> 2D covariance.
+  const float A = p.conic[3 * i], B = p.conic[3 * i + 1], C = p.conic[3 * i + 2];
+  Eigen::Matrix2f Q, gQ;
+  Q << A, B, B, C;
+  gQ << pg.conic[3 * i], 0.5f * pg.conic[3 * i + 1], 0.5f * pg.conic[3 * i + 1],
+      pg.conic[3 * i + 2];
+  const Eigen::Matrix2f gCov = -Q * gQ * Q;  // symmetric
+
+  // 2D covariance = T Sigma T^T with T = J W.
+  Mat3 Rq;
+  const Mat3 Sigma = world_covariance(m, i, &Rq);
+  const Mat23 J = projection_jacobian(v, pv);
+  const Mat23 T = J * v.R;
+  const Mat3 gSigma = T.transpose() * gCov * T;
+  const Mat23 gT = 2.f * gCov * T * Sigma;
+  const Mat23 gJ = gT * v.R.transpose();
+
+  // Jacobian entries -> camera-space point, exact through the clamp.
+  const float u_raw = x / z, w_raw = y / z;
+  const float uc = std::clamp(u_raw, -v.lim_x, v.lim_x);
+  const float wc = std::clamp(w_raw, -v.lim_y, v.lim_y);
+  const float g_uc = -gJ(0, 2) * v.fx / z;
+  const float g_wc = -gJ(1, 2) * v.fy / z;
+  g_pv.z() += -gJ(0, 0) * v.fx / (z * z) + gJ(0, 2) * v.fx * uc / (z * z) -
+              gJ(1, 1) * v.fy / (z * z) + gJ(1, 2) * v.fy * wc / (z * z);
+  if (u_raw > -v.lim_x && u_raw < v.lim_x) {
+    g_pv.x() += g_uc / z;
+    g_pv.z() += -g_uc * x / (z * z);
+  }
+  if (w_raw > -v.lim_y && w_raw < v.lim_y) {
+    g_pv.y() += g_wc / z;
+    g_pv.z() += -g_wc * y / (z * z);
+  }
+  Vec3 g_mean = v.R.transpose() * g_pv;
+
+  // Sigma = M M^T, M = R diag(s).
+  const Vec3 s_vec(std::exp(m.log_scales[3 * i]), std::exp(m.log_scales[3 * i + 1]),
+                   std::exp(m.log_scales[3 * i + 2]));
+  const Mat3 M = Rq * s_vec.asDiagonal();
+  const Mat3 gM = (gSigma + gSigma.transpose()) * M;
+  for (int k = 0; k < 3; ++k) g.log_scales[3 * i + k] = gM.col(k).dot(Rq.col(k)) * s_vec[k];
+  const Mat3 gR = gM * s_vec.asDiagonal();
+  const Eigen::Map<const Eigen::Vector4f> q(&m.rotations[4 * i]);
+  const float qlen = q.norm();
+  const Eigen::Vector4f qn = q / qlen;
+  const Eigen::Vector4f gqn = quaternion_matrix_backward(qn, gR);
+  const Eigen::Vector4f gq = (gqn - qn * qn.dot(gqn)) / qlen;
+  for (int k = 0; k < 4; ++k) g.rotations[4 * i + k] = gq[k];
+
+  const Vec3 g_mean_color = s.color ? backward_color(m, v, s, p, pg, i, mean, g) : Vec3::Zero();
+  g_mean += g_mean_color;
+  for (int k = 0; k < 3; ++k) g.means[3 * i + k] = g_mean[k];
+  if (cam) add_camera_gradient(v, pv, g_pv, J.transpose() * gT, g_mean_color, cam);
+  backward_opacities(p, pg, i, g);
+}
+
+// The geometry part of backward_one for kBatch consecutive Gaussians, with
+// the Gaussians as vector lanes (the same algebra written out, as
+// project_geometry writes out the forward's): from the gradients of the 2D
+// mean, the conic and the depth to those of the mean, the log-scales and the
+// rotation. Lanes of culled Gaussians compute meaningless values that the
+// caller does not store.
+struct GeometryGradientBatch {
+  alignas(64) float mean[3][kBatch];
+  alignas(64) float log_scale[3][kBatch];
+  alignas(64) float rotation[4][kBatch];
+};
+
+struct GeometryBatchInput {
+  const float *means, *rotations, *log_scales;  // the model's, at the batch's first Gaussian
+  const float *conic, *depth_grad, *mean2d_grad, *conic_grad;  // projected, likewise
+};
+
+void backward_geometry(const GeometryBatchInput& in, const ProjectionView& v,
+                       GeometryGradientBatch& out) {
+  const Mat3& W = v.R;
+  const float W00 = W(0, 0), W01 = W(0, 1), W02 = W(0, 2), W10 = W(1, 0), W11 = W(1, 1),
+              W12 = W(1, 2), W20 = W(2, 0), W21 = W(2, 1), W22 = W(2, 2);
+  const float t0 = v.t.x(), t1 = v.t.y(), t2 = v.t.z(), fx = v.fx, fy = v.fy;
+#pragma GCC ivdep
+  for (int i = 0; i < kBatch; ++i) {
+    const float mx = in.means[3 * i], my = in.means[3 * i + 1], mz = in.means[3 * i + 2];
+    const float x = W00 * mx + W01 * my + W02 * mz + t0;
+    const float y = W10 * mx + W11 * my + W12 * mz + t1;
+    const float z = W20 * mx + W21 * my + W22 * mz + t2;
+    const float iz = 1.f / z, iz2 = iz * iz;
+
+    // 2D mean u = fx x / z + cx, w = fy y / z + cy, and the depth.
+    const float gu = in.mean2d_grad[2 * i], gw = in.mean2d_grad[2 * i + 1];
+    float gpx = gu * fx * iz, gpy = gw * fy * iz;
+    float gpz = in.depth_grad[i] - gu * fx * x * iz2 - gw * fy * y * iz2;
+
+    // Conic Q (inverse of the 2D covariance): dL/dcov = -Q dL/dQ Q.
+    const float A = in.conic[3 * i], B = in.conic[3 * i + 1], C = in.conic[3 * i + 2];
+    const float gA = in.conic_grad[3 * i], hB = 0.5f * in.conic_grad[3 * i + 1],
+                gC = in.conic_grad[3 * i + 2];
+    const float P00 = A * gA + B * hB, P01 = A * hB + B * gC;
+    const float P10 = B * gA + C * hB, P11 = B * hB + C * gC;
+    const float G00 = -(P00 * A + P01 * B), G01 = -(P00 * B + P01 * C);
+    const float G10 = -(P10 * A + P11 * B), G11 = -(P10 * B + P11 * C);
+
+    // Rotation of the normalised quaternion, scales, M = R diag(s), Sigma = M M^T.
+    const float qw0 = in.rotations[4 * i], qx0 = in.rotations[4 * i + 1],
+                qy0 = in.rotations[4 * i + 2], qz0 = in.rotations[4 * i + 3];
+    const float inv_qn = 1.f / std::sqrt(qw0 * qw0 + qx0 * qx0 + qy0 * qy0 + qz0 * qz0);
+    const float qw = qw0 * inv_qn, qx = qx0 * inv_qn, qy = qy0 * inv_qn, qz = qz0 * inv_qn;
+    const float R00 = 1 - 2 * (qy * qy + qz * qz), R01 = 2 * (qx * qy - qw * qz),
+                R02 = 2 * (qx * qz + qw * qy);
+    const float R10 = 2 * (qx * qy + qw * qz), R11 = 1 - 2 * (qx * qx + qz * qz),
+                R12 = 2 * (qy * qz - qw * qx);
+    const float R20 = 2 * (qx * qz - qw * qy), R21 = 2 * (qy * qz + qw * qx),
+                R22 = 1 - 2 * (qx * qx + qy * qy);
+    const float s0 = fast_exp(std::min(in.log_scales[3 * i], 80.f));
+    const float s1 = fast_exp(std::min(in.log_scales[3 * i + 1], 80.f));
+    const float s2 = fast_exp(std::min(in.log_scales[3 * i + 2], 80.f));
+    const float M00 = R00 * s0, M01 = R01 * s1, M02 = R02 * s2;
+    const float M10 = R10 * s0, M11 = R11 * s1, M12 = R12 * s2;
+    const float M20 = R20 * s0, M21 = R21 * s1, M22 = R22 * s2;
+    const float S00 = M00 * M00 + M01 * M01 + M02 * M02;
+    const float S01 = M00 * M10 + M01 * M11 + M02 * M12;
+    const float S02 = M00 * M20 + M01 * M21 + M02 * M22;
+    const float S11 = M10 * M10 + M11 * M11 + M12 * M12;
+    const float S12 = M10 * M20 + M11 * M21 + M12 * M22;
+    const float S22 = M20 * M20 + M21 * M21 + M22 * M22;
+
+    // The Jacobian with the reference's clamp, T = J W.
+    const float u_raw = x * iz, w_raw = y * iz;
+    const float uc = std::clamp(u_raw, -v.lim_x, v.lim_x);
+    const float wc = std::clamp(w_raw, -v.lim_y, v.lim_y);
+    const float J00 = fx * iz, J02 = -fx * uc * iz, J11 = fy * iz, J12 = -fy * wc * iz;
+    const float T00 = J00 * W00 + J02 * W20, T01 = J00 * W01 + J02 * W21,
+                T02 = J00 * W02 + J02 * W22;
+    const float T10 = J11 * W10 + J12 * W20, T11 = J11 * W11 + J12 * W21,
+                T12 = J11 * W12 + J12 * W22;
+
+    // cov = T Sigma T^T: dL/dSigma = T^T G T, dL/dT = 2 G T Sigma, with U = G T.
+    const float U00 = G00 * T00 + G01 * T10, U01 = G00 * T01 + G01 * T11,
+                U02 = G00 * T02 + G01 * T12;
+    const float U10 = G10 * T00 + G11 * T10, U11 = G10 * T01 + G11 * T11,
+                U12 = G10 * T02 + G11 * T12;
+    const float gS00 = T00 * U00 + T10 * U10, gS01 = T00 * U01 + T10 * U11,
+                gS02 = T00 * U02 + T10 * U12;
+    const float gS10 = T01 * U00 + T11 * U10, gS11 = T01 * U01 + T11 * U11,
+                gS12 = T01 * U02 + T11 * U12;
+    const float gS20 = T02 * U00 + T12 * U10, gS21 = T02 * U01 + T12 * U11,
+                gS22 = T02 * U02 + T12 * U12;
+    const float gT00 = 2 * (U00 * S00 + U01 * S01 + U02 * S02);
+    const float gT01 = 2 * (U00 * S01 + U01 * S11 + U02 * S12);
+    const float gT02 = 2 * (U00 * S02 + U01 * S12 + U02 * S22);
+    const float gT10 = 2 * (U10 * S00 + U11 * S01 + U12 * S02);
+    const float gT11 = 2 * (U10 * S01 + U11 * S11 + U12 * S12);
+    const float gT12 = 2 * (U10 * S02 + U11 * S12 + U12 * S22);
+    // dL/dJ = dL/dT W^T (the entries J has).
+    const float gJ00 = gT00 * W00 + gT01 * W01 + gT02 * W02;
+    const float gJ02 = gT00 * W20 + gT01 * W21 + gT02 * W22;
+    const float gJ11 = gT10 * W10 + gT11 * W11 + gT12 * W12;
+    const float gJ12 = gT10 * W20 + gT11 * W21 + gT12 * W22;
+
+    // The Jacobian's entries -> camera-space point, exact through the clamp.
+    gpz += (-gJ00 * fx + gJ02 * fx * uc - gJ11 * fy + gJ12 * fy * wc) * iz2;
+    const float in_x = (u_raw > -v.lim_x ? 1.f : 0.f) * (u_raw < v.lim_x ? 1.f : 0.f);
+    const float in_y = (w_raw > -v.lim_y ? 1.f : 0.f) * (w_raw < v.lim_y ? 1.f : 0.f);
+    const float g_uc = -gJ02 * fx * iz * in_x, g_wc = -gJ12 * fy * iz * in_y;
+    gpx += g_uc * iz;
+    gpz -= g_uc * x * iz2;
+    gpy += g_wc * iz;
+    gpz -= g_wc * y * iz2;
+    out.mean[0][i] = W00 * gpx + W10 * gpy + W20 * gpz;
+    out.mean[1][i] = W01 * gpx + W11 * gpy + W21 * gpz;
+    out.mean[2][i] = W02 * gpx + W12 * gpy + W22 * gpz;
+
+    // Sigma = M M^T: dL/dM = (gS + gS^T) M; log-scales and dL/dR = dL/dM diag(s).
+    const float H00 = 2 * gS00, H01 = gS01 + gS10, H02 = gS02 + gS20;
+    const float H11 = 2 * gS11, H12 = gS12 + gS21, H22 = 2 * gS22;
+    const float gM00 = H00 * M00 + H01 * M10 + H02 * M20;
+    const float gM01 = H00 * M01 + H01 * M11 + H02 * M21;
+    const float gM02 = H00 * M02 + H01 * M12 + H02 * M22;
+    const float gM10 = H01 * M00 + H11 * M10 + H12 * M20;
+    const float gM11 = H01 * M01 + H11 * M11 + H12 * M21;
+    const float gM12 = H01 * M02 + H11 * M12 + H12 * M22;
+    const float gM20 = H02 * M00 + H12 * M10 + H22 * M20;
+    const float gM21 = H02 * M01 + H12 * M11 + H22 * M21;
+    const float gM22 = H02 * M02 + H12 * M12 + H22 * M22;
+    out.log_scale[0][i] = (gM00 * R00 + gM10 * R10 + gM20 * R20) * s0;
+    out.log_scale[1][i] = (gM01 * R01 + gM11 * R11 + gM21 * R21) * s1;
+    out.log_scale[2][i] = (gM02 * R02 + gM12 * R12 + gM22 * R22) * s2;
+    const float gR00 = gM00 * s0, gR01 = gM01 * s1, gR02 = gM02 * s2;
+    const float gR10 = gM10 * s0, gR11 = gM11 * s1, gR12 = gM12 * s2;
+    const float gR20 = gM20 * s0, gR21 = gM21 * s1, gR22 = gM22 * s2;
+    // d R(q) / d q (quaternion_matrix_backward), then through the normalisation.
+    const float gqw = 2 * (-qz * gR01 + qy * gR02 + qz * gR10 - qx * gR12 - qy * gR20 + qx * gR21);
+    const float gqx = 2 * (qy * gR01 + qz * gR02 + qy * gR10 - 2 * qx * gR11 - qw * gR12 +
+                           qz * gR20 + qw * gR21 - 2 * qx * gR22);
+    const float gqy = 2 * (-2 * qy * gR00 + qx * gR01 + qw * gR02 + qx * gR10 + qz * gR12 -
+                           qw * gR20 + qz * gR21 - 2 * qy * gR22);
+    const float gqz = 2 * (-2 * qz * gR00 - qw * gR01 + qx * gR02 + qw * gR10 - 2 * qz * gR11 +
+                           qy * gR12 + qx * gR20 + qy * gR21);
+    const float dot = qw * gqw + qx * gqx + qy * gqy + qz * gqz;
+    out.rotation[0][i] = (gqw - qw * dot) * inv_qn;
+    out.rotation[1][i] = (gqx - qx * dot) * inv_qn;
+    out.rotation[2][i] = (gqy - qy * dot) * inv_qn;
+    out.rotation[3][i] = (gqz - qz * dot) * inv_qn;
+  }
+}
+
+}  // namespace
+
+namespace {
+
+// Zeroes the gradients of a batch's culled Gaussians and writes its visible
+// ones': the geometry a batch at a time, the colour and opacities one by one.
+void backward_batch(const GaussianModel& m, const ProjectionView& v, const RenderSettings& s,
+                    const ProjectedGaussians& p, const ProjectedGradients& pg, size_t first,
+                    size_t count, float half_w, float half_h, GaussianGradients& g) {
+  bool any_visible = false;
+  for (size_t i = first; i < first + count; ++i) {
+    if (!p.visible(i)) zero_gradients(g, i);  // visible ones have every field written below
+    any_visible |= p.visible(i);
+  }
+  if (!any_visible) return;
+  GeometryGradientBatch geometry;
+  if (count == kBatch) {
+    backward_geometry(
+        {&m.means[3 * first], &m.rotations[4 * first], &m.log_scales[3 * first],
+         &p.conic[3 * first], &pg.depth[first], &pg.mean2d[2 * first], &pg.conic[3 * first]},
+        v, geometry);
+  } else {  // the last, partial batch: padded with copies of its last Gaussian
+    float means[3 * kBatch], rotations[4 * kBatch], log_scales[3 * kBatch], conic[3 * kBatch],
+        depth_grad[kBatch], mean2d_grad[2 * kBatch], conic_grad[3 * kBatch];
+    for (size_t l = 0; l < kBatch; ++l) {
+      const size_t i = first + std::min(l, count - 1);
+      std::copy_n(&m.means[3 * i], 3, &means[3 * l]);
+      std::copy_n(&m.rotations[4 * i], 4, &rotations[4 * l]);
+      std::copy_n(&m.log_scales[3 * i], 3, &log_scales[3 * l]);
+      std::copy_n(&p.conic[3 * i], 3, &conic[3 * l]);
+      depth_grad[l] = pg.depth[i];
+      std::copy_n(&pg.mean2d[2 * i], 2, &mean2d_grad[2 * l]);
+      std::copy_n(&pg.conic[3 * i], 3, &conic_grad[3 * l]);
+    }
+    backward_geometry({means, rotations, log_scales, conic, depth_grad, mean2d_grad, conic_grad}, v,
+                      geometry);
+  }
+  for (size_t l = 0; l < count; ++l) {
+    const size_t i = first + l;
+    if (!p.visible(i)) continue;
+    g.visible[i] = 1;
+    g.mean2d_ndc[2 * i] = pg.mean2d[2 * i] * half_w;
+    g.mean2d_ndc[2 * i + 1] = pg.mean2d[2 * i + 1] * half_h;
+    const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
+    Vec3 g_mean_color = Vec3::Zero();
+    if (s.color) {
+      g_mean_color = backward_color(m, v, s, p, pg, i, mean, g);
+    } else {
+      std::fill_n(&g.sh_dc[3 * i], 3, 0.f);
+      std::fill_n(&g.sh_rest[kShRestFloats * i], kShRestFloats, 0.f);
+    }
+    for (int k = 0; k < 3; ++k) {
+      g.means[3 * i + k] = geometry.mean[k][l] + g_mean_color[k];
+      g.log_scales[3 * i + k] = geometry.log_scale[k][l];
+    }
+    for (int k = 0; k < 4; ++k) g.rotations[4 * i + k] = geometry.rotation[k][l];
+    backward_opacities(p, pg, i, g);
+  }
+}
+
+}  // namespace
+
+void project_gaussians_backward(const GaussianModel& m, const Camera& cam, const RenderSettings& s,
+                                const ProjectedGaussians& p, const ProjectedGradients& pg,
+                                GaussianGradients& g) {
+  const size_t n = m.size();
+  g.resize(n);
+  const ProjectionView v(cam);
+  const float half_w = 0.5f * cam.width, half_h = 0.5f * cam.height;
+  g.camera.fill(0.0);
+  if (!s.camera_gradient) {
+    const size_t batches = (n + kBatch - 1) / kBatch;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, batches, 256), [&](const auto& range) {
+      for (size_t b = range.begin(); b < range.end(); ++b)
+        backward_batch(m, v, s, p, pg, b * kBatch, std::min<size_t>(kBatch, n - b * kBatch), half_w,
+                       half_h, g);
+    });
+    return;
+  }
+  // With the camera's gradient: one Gaussian at a time (backward_one, the
+  // batches' reference), the camera's sum per fixed chunk, then over the
+  // chunks in order, so that it does not depend on the thread schedule.
+  constexpr size_t kChunk = 4096;
+  const size_t chunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::array<double, 6>> cam_partial(chunks);
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, chunks, 1),
+      [&](const auto& range) {
+        for (size_t c = range.begin(); c < range.end(); ++c) {
+          double* cam_sum = cam_partial[c].data();
+          for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
+            zero_gradients(g, i);
+            if (!p.visible(i)) continue;
+            g.visible[i] = 1;
+            g.mean2d_ndc[2 * i] = pg.mean2d[2 * i] * half_w;
+            g.mean2d_ndc[2 * i + 1] = pg.mean2d[2 * i + 1] * half_h;
+            backward_one(m, v, s, p, pg, i, g, cam_sum);
+          }
+        }
+      },
+      tbb::simple_partitioner());
+  for (const auto& partial : cam_partial)
+    for (int k = 0; k < 6; ++k) g.camera[k] += partial[k];
+}
+
+}  // namespace splat
