@@ -5,7 +5,7 @@
 
 #include <array>
 #include <cmath>
-#include <cstring>
+#include <stdexcept>
 
 #include "splat/error.h"
 #include "splat/image_file.h"

@@ -32,20 +32,6 @@ void GaussianGradients::resize(size_t n) {
   visible.resize(n);
 }
 
-namespace {
-// Zeroes the gradients of Gaussian i (culled, or SH beyond the active degree).
-void zero_gradients(GaussianGradients& g, size_t i) {
-  std::fill_n(&g.means[3 * i], 3, 0.f);
-  std::fill_n(&g.sh_dc[3 * i], 3, 0.f);
-  std::fill_n(&g.sh_rest[kShRestFloats * i], kShRestFloats, 0.f);
-  g.opacity_logits[i] = g.instance_opacity_logits[i] = 0.f;
-  std::fill_n(&g.log_scales[3 * i], 3, 0.f);
-  std::fill_n(&g.rotations[4 * i], 4, 0.f);
-  std::fill_n(&g.mean2d_ndc[2 * i], 2, 0.f);
-  g.visible[i] = 0;
-}
-}  // namespace
-
 void ProjectedGradients::resize(size_t n) {
   parallel_assign(mean2d, 2 * n, 0.f);
   parallel_assign(conic, 3 * n, 0.f);
@@ -58,6 +44,18 @@ void ProjectedGradients::resize(size_t n) {
 namespace {
 
 constexpr int kBatch = kProjectionBatch;
+
+// Zeroes every gradient of Gaussian i (a culled one).
+void zero_gradients(GaussianGradients& g, size_t i) {
+  std::fill_n(&g.means[3 * i], 3, 0.f);
+  std::fill_n(&g.sh_dc[3 * i], 3, 0.f);
+  std::fill_n(&g.sh_rest[kShRestFloats * i], kShRestFloats, 0.f);
+  g.opacity_logits[i] = g.instance_opacity_logits[i] = 0.f;
+  std::fill_n(&g.log_scales[3 * i], 3, 0.f);
+  std::fill_n(&g.rotations[4 * i], 4, 0.f);
+  std::fill_n(&g.mean2d_ndc[2 * i], 2, 0.f);
+  g.visible[i] = 0;
+}
 
 // Rotation matrix of the normalised quaternion w x y z.
 Mat3 quaternion_matrix(float w, float x, float y, float z) {
@@ -89,10 +87,6 @@ Mat3 world_covariance(const GaussianModel& m, size_t i, Mat3* rotation = nullptr
   const Mat3 M = R * s.asDiagonal();
   return M * M.transpose();
 }
-
-}  // namespace
-
-namespace {
 
 // d R(q) / d q for the normalised quaternion, contracted with dL/dR.
 Eigen::Vector4f quaternion_matrix_backward(const Eigen::Vector4f& q, const Mat3& gR) {
@@ -172,6 +166,7 @@ void backward_opacities(const ProjectedGaussians& p, const ProjectedGradients& p
 void backward_one(const GaussianModel& m, const ProjectionView& v, const RenderSettings& s,
                   const ProjectedGaussians& p, const ProjectedGradients& pg, size_t i,
                   GaussianGradients& g, double* cam) {
+  // cam: the camera's gradient (6 values) that this Gaussian adds to.
   const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
   const Vec3 pv = v.R * mean + v.t;
   const float x = pv.x(), y = pv.y(), z = pv.z();
@@ -235,7 +230,7 @@ void backward_one(const GaussianModel& m, const ProjectionView& v, const RenderS
   const Vec3 g_mean_color = s.color ? backward_color(m, v, s, p, pg, i, mean, g) : Vec3::Zero();
   g_mean += g_mean_color;
   for (int k = 0; k < 3; ++k) g.means[3 * i + k] = g_mean[k];
-  if (cam) add_camera_gradient(v, pv, g_pv, J.transpose() * gT, g_mean_color, cam);
+  add_camera_gradient(v, pv, g_pv, J.transpose() * gT, g_mean_color, cam);
   backward_opacities(p, pg, i, g);
 }
 
@@ -388,9 +383,14 @@ void backward_geometry(const GeometryBatchInput& in, const ProjectionView& v,
   }
 }
 
-}  // namespace
-
-namespace {
+// Marks visible Gaussian i and writes its densification statistic: the 2D
+// mean's gradient in normalised device units.
+void mark_visible(const ProjectedGradients& pg, size_t i, float half_w, float half_h,
+                  GaussianGradients& g) {
+  g.visible[i] = 1;
+  g.mean2d_ndc[2 * i] = pg.mean2d[2 * i] * half_w;
+  g.mean2d_ndc[2 * i + 1] = pg.mean2d[2 * i + 1] * half_h;
+}
 
 // Zeroes the gradients of a batch's culled Gaussians and writes its visible
 // ones': the geometry a batch at a time, the colour and opacities one by one.
@@ -428,9 +428,7 @@ void backward_batch(const GaussianModel& m, const ProjectionView& v, const Rende
   for (size_t l = 0; l < count; ++l) {
     const size_t i = first + l;
     if (!p.visible(i)) continue;
-    g.visible[i] = 1;
-    g.mean2d_ndc[2 * i] = pg.mean2d[2 * i] * half_w;
-    g.mean2d_ndc[2 * i + 1] = pg.mean2d[2 * i + 1] * half_h;
+    mark_visible(pg, i, half_w, half_h, g);
     const Vec3 mean(m.means[3 * i], m.means[3 * i + 1], m.means[3 * i + 2]);
     Vec3 g_mean_color = Vec3::Zero();
     if (s.color) {
@@ -481,9 +479,7 @@ void project_gaussians_backward(const GaussianModel& m, const Camera& cam, const
           for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
             zero_gradients(g, i);
             if (!p.visible(i)) continue;
-            g.visible[i] = 1;
-            g.mean2d_ndc[2 * i] = pg.mean2d[2 * i] * half_w;
-            g.mean2d_ndc[2 * i + 1] = pg.mean2d[2 * i + 1] * half_h;
+            mark_visible(pg, i, half_w, half_h, g);
             backward_one(m, v, s, p, pg, i, g, cam_sum);
           }
         }
