@@ -119,10 +119,10 @@ inline void blend(const TileGaussians& tg, size_t k, float px0, float py0, Block
 
 template <bool kColor, bool kDepth, bool kInstance, bool kLabels>
 void blend_block(const TileGaussians& tg, int b, const PixelBlock& block, BlockState& s) {
-  const uint32_t* entries = tg.block_entries.data();
-  const uint32_t begin = tg.block_start[b], end = tg.block_start[b + 1];
+  const uint32_t* entries = tg.block_list(b);
+  const uint32_t count = tg.block_count[b];
   const float x0 = block.cx0(), y0 = block.cy0();
-  for (uint32_t e = begin; e < end; ++e) {
+  for (uint32_t e = 0; e < count; ++e) {
     const size_t k = entries[e];
     // Only Gaussians whose label has a map pay for the instance branch.
     if (kInstance && tg[k].plane >= 0) {
@@ -130,7 +130,7 @@ void blend_block(const TileGaussians& tg, int b, const PixelBlock& block, BlockS
       blend<kColor, kDepth, kInstance, kLabels>(tg, k, x0, y0, s);
     } else
       blend<kColor, kDepth, false, kLabels>(tg, k, x0, y0, s);
-    if (((e - begin) & 15) == 15 && s.all_done()) break;
+    if ((e & 15) == 15 && s.all_done()) break;
   }
 }
 

@@ -9,6 +9,9 @@
 #include <array>
 #include <cstdint>
 #include <vector>
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
 
 #include "splat/render/pixel_block.h"
 #include "splat/render/rasterize.h"
@@ -35,13 +38,16 @@ struct TileGaussians {
   // Bit b of block_mask[k]: Gaussian k reaches (alpha >= 1/255) a pixel
   // centre of block b. Points into RasterState::slot_blocks.
   const uint16_t* block_mask = nullptr;
-  // The Gaussians reaching block b, front to back:
-  // block_entries[block_start[b] .. block_start[b + 1]).
+  // The Gaussians reaching block b, front to back: block_count[b] of them
+  // from block_list(b). Each block has room for every Gaussian of the tile,
+  // so that the lists are written in one pass without counting first.
   std::vector<uint32_t> block_entries;
-  std::array<uint32_t, kBlocksPerTile + 1> block_start{};
+  size_t block_capacity = 0;
+  std::array<uint32_t, kBlocksPerTile> block_count{};
 
   size_t size() const { return records.size(); }
   const SplatRecord& operator[](size_t k) const { return records[k]; }
+  const uint32_t* block_list(int b) const { return block_entries.data() + b * block_capacity; }
 
   // Copies the records of slots [slot_begin, slot_end), front to back.
   void gather(const RasterState& s, uint32_t slot_begin, uint32_t slot_end) {
@@ -51,13 +57,22 @@ struct TileGaussians {
   // The forward pass: gather, and the blocks of the tile whose top-left pixel
   // is (tile_x0, tile_y0) that each Gaussian reaches, found from the record
   // as it is loaded (re-reading the fresh copy would stall on it), written to
-  // masks (one per record, kept for the backward pass), and each block's list.
+  // masks (one per record, kept for the backward pass) and to each block's list.
   void gather_with_blocks(const RasterState& s, uint32_t slot_begin, uint32_t slot_end, int tile_x0,
                           int tile_y0, uint16_t* masks) {
+    block_capacity = slot_end - slot_begin;
+    if (block_entries.size() < kBlocksPerTile * block_capacity)
+      block_entries.resize(kBlocksPerTile * block_capacity);
+    block_count.fill(0);
     copy_records(s, slot_begin, slot_end, [&](size_t k, const SplatRecord& record) {
-      masks[k] = blocks_reached(record, float(tile_x0), float(tile_y0));
+      const uint16_t mask = blocks_reached(record, float(tile_x0), float(tile_y0));
+      masks[k] = mask;
+      for (unsigned m = mask; m; m &= m - 1) {
+        const int b = __builtin_ctz(m);
+        block_entries[b * block_capacity + block_count[b]++] = uint32_t(k);
+      }
     });
-    list_blocks(masks);
+    block_mask = masks;
   }
 
   // The backward pass: the masks the forward pass found.
@@ -83,22 +98,6 @@ struct TileGaussians {
       on_record(k, record);
       records[k] = record;
     }
-  }
-
-  // Lists each block's Gaussians, front to back, from the masks.
-  void list_blocks(const uint16_t* masks) {
-    const size_t n = records.size();
-    std::array<uint32_t, kBlocksPerTile> count{};
-    for (size_t k = 0; k < n; ++k)
-      for (unsigned m = masks[k]; m; m &= m - 1) ++count[__builtin_ctz(m)];
-    block_mask = masks;
-    block_start[0] = 0;
-    for (int b = 0; b < kBlocksPerTile; ++b) block_start[b + 1] = block_start[b] + count[b];
-    block_entries.resize(block_start[kBlocksPerTile]);
-    std::array<uint32_t, kBlocksPerTile> next;
-    std::copy_n(block_start.begin(), kBlocksPerTile, next.begin());
-    for (size_t k = 0; k < n; ++k)
-      for (unsigned m = masks[k]; m; m &= m - 1) block_entries[next[__builtin_ctz(m)]++] = k;
   }
 
   static constexpr float kSpan = float(kBlockSize - 1);  // cx1 - cx0
@@ -130,9 +129,14 @@ struct TileGaussians {
       const float near = std::max(mean_inside, best <= g.reach_level ? 1.f : 0.f);
       hit[b] = in_box * near;
     }
+#if defined(__AVX512F__)
+    // One compare into a mask register; GCC leaves the loop below scalar.
+    return uint16_t(_mm512_cmp_ps_mask(_mm512_load_ps(hit), _mm512_setzero_ps(), _CMP_GT_OQ));
+#else
     uint16_t mask = 0;
     for (int b = 0; b < kBlocksPerTile; ++b) mask |= uint16_t(hit[b] > 0.f ? 1u << b : 0u);
     return mask;
+#endif
   }
 };
 
