@@ -20,6 +20,7 @@ namespace splat {
 using Mat3 = Eigen::Matrix3f;
 using Vec3 = Eigen::Vector3f;
 using Mat23 = Eigen::Matrix<float, 2, 3>;
+
 void GaussianGradients::resize(size_t n) {
   means.resize(3 * n);
   sh_dc.resize(3 * n);
@@ -77,15 +78,14 @@ Mat23 projection_jacobian(const ProjectionView& v, const Vec3& pv) {
   return J;
 }
 
-Mat3 world_covariance(const GaussianModel& m, size_t i, Mat3* rotation = nullptr) {
+// M = R diag(s) of Gaussian i (its covariance is M M^T), with R and s.
+Mat3 scaled_rotation(const GaussianModel& m, size_t i, Mat3& R, Vec3& s) {
   const float* q = &m.rotations[4 * i];
   const float qn = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  const Mat3 R = quaternion_matrix(q[0] / qn, q[1] / qn, q[2] / qn, q[3] / qn);
-  if (rotation) *rotation = R;
-  const Vec3 s(std::exp(m.log_scales[3 * i]), std::exp(m.log_scales[3 * i + 1]),
-               std::exp(m.log_scales[3 * i + 2]));
-  const Mat3 M = R * s.asDiagonal();
-  return M * M.transpose();
+  R = quaternion_matrix(q[0] / qn, q[1] / qn, q[2] / qn, q[3] / qn);
+  s = Vec3(std::exp(m.log_scales[3 * i]), std::exp(m.log_scales[3 * i + 1]),
+           std::exp(m.log_scales[3 * i + 2]));
+  return R * s.asDiagonal();
 }
 
 // d R(q) / d q for the normalised quaternion, contracted with dL/dR.
@@ -188,7 +188,9 @@ void backward_one(const GaussianModel& m, const ProjectionView& v, const RenderS
 
   // 2D covariance = T Sigma T^T with T = J W.
   Mat3 Rq;
-  const Mat3 Sigma = world_covariance(m, i, &Rq);
+  Vec3 s_vec;
+  const Mat3 M = scaled_rotation(m, i, Rq, s_vec);
+  const Mat3 Sigma = M * M.transpose();
   const Mat23 J = projection_jacobian(v, pv);
   const Mat23 T = J * v.R;
   const Mat3 gSigma = T.transpose() * gCov * T;
@@ -214,9 +216,6 @@ void backward_one(const GaussianModel& m, const ProjectionView& v, const RenderS
   Vec3 g_mean = v.R.transpose() * g_pv;
 
   // Sigma = M M^T, M = R diag(s).
-  const Vec3 s_vec(std::exp(m.log_scales[3 * i]), std::exp(m.log_scales[3 * i + 1]),
-                   std::exp(m.log_scales[3 * i + 2]));
-  const Mat3 M = Rq * s_vec.asDiagonal();
   const Mat3 gM = (gSigma + gSigma.transpose()) * M;
   for (int k = 0; k < 3; ++k) g.log_scales[3 * i + k] = gM.col(k).dot(Rq.col(k)) * s_vec[k];
   const Mat3 gR = gM * s_vec.asDiagonal();
