@@ -9,7 +9,8 @@
 //                               with --refine-poses also refined_poses.txt,
 //                               which vote, render and embed then use
 //   <work>/vote/                op2gs-vote: point_cloud.ply with labels,
-//                               summary.json, preview/, baseline/
+//                               label_agreement.npy, summary.json,
+//                               preview/, baseline/
 //   <work>/learn/               op2gs-learn: a training folder (TrainingLayout)
 //   <work>/render/              op2gs-render: rgb/, masks/, instance_labels/, ...
 //   <work>/embed/               op2gs-embed: embeddings.json, crops
@@ -56,6 +57,9 @@ struct WorkLayout {
   std::filesystem::path vote() const { return root / "vote"; }
   // The stage-one model with one label per Gaussian.
   std::filesystem::path labelled_model() const { return vote() / "point_cloud.ply"; }
+  // Per Gaussian of the labelled model, in its order: the share of its votes
+  // that went to its label (0 without votes); float64, shape (N,).
+  std::filesystem::path label_agreement() const { return vote() / "label_agreement.npy"; }
   TrainingLayout stage_two() const { return {root / "learn"}; }
   std::filesystem::path render() const { return root / "render"; }
   std::filesystem::path embed() const { return root / "embed"; }

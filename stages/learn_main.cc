@@ -50,6 +50,11 @@ int main(int argc, char** argv) {
   app.add_option("--sigma-star-init", o.train.instance_opacity_init,
                  "initial sigma* of every Gaussian in (0, 1); default: each Gaussian's sigma "
                  "(the paper)");
+  app.add_option("--protect-agreement", o.train.object_loss.protected_agreement,
+                 "Gaussians whose label won at least this share of their votes keep their "
+                 "sigma*: the object loss may raise it, not lower it, so masks that miss part "
+                 "of an object in some views punch no holes (0: off, the paper)")
+      ->capture_default_str();
   app.add_option("--lr-instance-opacity", o.train.lr_instance_opacity,
                  "learning rate of sigma* (as a logit)")
       ->capture_default_str();
@@ -59,6 +64,9 @@ int main(int argc, char** argv) {
     const splat::WorkLayout w{work};
     o.start_checkpoint = stages::or_default(checkpoint, w.stage_one().latest_checkpoint());
     o.labels_model = stages::or_default(labels, w.labelled_model());
+    if (o.train.object_loss.protected_agreement > 0)
+      o.train.object_loss.label_agreement =
+          o.labels_model.parent_path() / w.label_agreement().filename();  // op2gs-vote's, beside
     // The track IDs op2gs-vote joined (--join-switched-ids) are one object
     // here too, and the segments it found covering two objects are not used.
     splat::read_id_corrections(w.vote() / "summary.json", o.train.object_loss);

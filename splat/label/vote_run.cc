@@ -20,6 +20,7 @@
 #include "splat/error.h"
 #include "splat/id_maps.h"
 #include "splat/label/palette.h"
+#include "splat/npy.h"
 #include "splat/ply.h"
 
 namespace splat {
@@ -159,6 +160,22 @@ json summary_json(const GaussianModel& model, const LabelVotes& votes,
           {"unseen_share", r.unseen_share},
           {"vote_agreement", r.vote_agreement},
           {"objects", objects}};
+}
+
+// Per Gaussian, the share of its votes that went to its label (0: no votes).
+std::vector<double> label_agreement(const LabelVotes& votes) {
+  std::vector<double> a(votes.size(), 0.0);
+  for (size_t j = 0; j < a.size(); ++j)
+    if (const uint32_t n = votes.votes(j)) a[j] = double(votes.votes_for_label(j)) / n;
+  return a;
+}
+
+// values[order[k]] for every k: the same permutation reorder_gaussians applies.
+std::vector<double> in_order(const std::vector<double>& values,
+                             const std::vector<uint32_t>& order) {
+  std::vector<double> out(order.size());
+  for (size_t k = 0; k < order.size(); ++k) out[k] = values[order[k]];
+  return out;
 }
 
 // Render states for the depth maps, handed from view to view: a state holds
@@ -374,8 +391,11 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const V
 
   json summary = summary_json(model, votes, views_per_id,
                               read_object_names(run.folder / "objects.json"), result);
-  reorder_gaussians(model, inverse_order(order));
+  std::vector<double> agreement = label_agreement(votes);
+  const std::vector<uint32_t> back = inverse_order(order);
+  reorder_gaussians(model, back);
   write_gaussian_ply(out / "point_cloud.ply", model);
+  write_npy_f64(out / "label_agreement.npy", in_order(agreement, back), {agreement.size()});
   summary["model"] = o.model.string();
   summary["iteration"] = run.stage_one.iteration;
   summary["id_maps"] = run.folder.string();

@@ -1,5 +1,7 @@
 #include "splat/train/object_loss.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -8,6 +10,7 @@
 #include "splat/atomic_file.h"
 #include "splat/error.h"
 #include "splat/id_maps.h"
+#include "splat/npy.h"
 
 namespace splat {
 
@@ -37,6 +40,30 @@ void ObjectLossOptions::Check() const {
   if (!(weight >= 0)) throw std::invalid_argument("the object loss weight must be >= 0");
   if (objects_per_step < 1) throw std::invalid_argument("objects per step must be >= 1");
   if (weight > 0 && id_maps.empty()) throw std::invalid_argument("no ID map folder given");
+  if (!(protected_agreement >= 0 && protected_agreement <= 1))
+    throw std::invalid_argument("the protected label agreement must be in [0, 1]");
+  if (protected_agreement > 0 && label_agreement.empty())
+    throw std::invalid_argument("protecting sigma* needs op2gs-vote's label agreement file");
+}
+
+std::vector<uint8_t> read_protected_gaussians(const std::filesystem::path& file, float threshold,
+                                              size_t gaussians) {
+  std::vector<size_t> shape;
+  const std::vector<double> agreement = read_npy(file, &shape);
+  if (shape.size() != 1 || agreement.size() != gaussians)
+    throw InputError(file, fmt::format("{} label agreements for {} Gaussians; run op2gs-vote "
+                                       "again on this model",
+                                       agreement.size(), gaussians));
+  std::vector<uint8_t> keep(gaussians);
+  for (size_t i = 0; i < gaussians; ++i) keep[i] = agreement[i] >= threshold;
+  return keep;
+}
+
+void keep_from_falling(std::span<float> grad, const std::vector<uint8_t>& keep) {
+  if (grad.size() != keep.size())
+    throw std::invalid_argument("keep_from_falling: one flag per Gaussian expected");
+  for (size_t i = 0; i < grad.size(); ++i)
+    if (keep[i]) grad[i] = std::min(grad[i], 0.f);
 }
 
 std::vector<int32_t> objects_in_map(const IdMap& ids) {

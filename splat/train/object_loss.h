@@ -30,8 +30,30 @@ struct ObjectLossOptions {
   // covered another object too).
   std::map<int32_t, int32_t> id_remap;
   std::map<std::string, std::vector<int32_t>> ignored_ids;  // by view name
-  void Check() const;                                       // throws std::invalid_argument
+  // Vote-protected sigma*: a Gaussian whose label won at least this share of
+  // its votes (op2gs-vote's label_agreement.npy) is taken to belong to its
+  // object, and the loss may raise its sigma* but never lower it. Why: the
+  // loss regresses sigma* on every view's mask, so the views whose mask
+  // missed a part of the object (a quarter of SAM2/DEVA's, persistently over
+  // runs of frames) pull the interior's sigma* down and punch holes in the
+  // masks, which boundary IoU punishes hard at full resolution; the majority
+  // vote already outvoted those views. Mislabelled Gaussians (floaters,
+  // Gaussians straddling a border) split their votes and stay free to fall.
+  // 0: off, every sigma* follows the loss (the paper).
+  float protected_agreement = 0.f;
+  std::filesystem::path label_agreement;  // the .npy; required when protecting
+  void Check() const;                     // throws std::invalid_argument
 };
+
+// Per Gaussian: 1 if its label agreement in `file` (float array of shape
+// (N,)) is at least `threshold`. Throws InputError naming the file when it
+// cannot be read or holds other than `gaussians` values.
+std::vector<uint8_t> read_protected_gaussians(const std::filesystem::path& file, float threshold,
+                                              size_t gaussians);
+
+// Drops the part of dLoss/d(sigma* logit) that would lower a protected
+// Gaussian's sigma* (a positive gradient, as the step descends).
+void keep_from_falling(std::span<float> instance_opacity_grad, const std::vector<uint8_t>& keep);
 
 // Fills the corrections from op2gs-vote's summary.json ("joined_ids",
 // "merged_segments"); a summary without them leaves the options as they are.

@@ -140,6 +140,13 @@ const Trainer::ObjectMap& Trainer::object_map(size_t view) {
   return *object_maps_[view];
 }
 
+const std::vector<uint8_t>& Trainer::protected_gaussians() {
+  if (protected_.size() != model_.size())
+    protected_ = read_protected_gaussians(options_.object_loss.label_agreement,
+                                          options_.object_loss.protected_agreement, model_.size());
+  return protected_;
+}
+
 float Trainer::position_learning_rate(int iteration) const {
   // The reference's get_expon_lr_func: log-linear from init to final.
   const double t = std::clamp(double(iteration) / options_.total_iterations, 0.0, 1.0);
@@ -211,6 +218,8 @@ void Trainer::train_until(int until,
                                   o.exposure.regularization);
     }
     renderer_.backward(model_, cam, settings, *render_state_, out_grads_, grads_);
+    if (objects && o.object_loss.protected_agreement > 0)
+      keep_from_falling(grads_.instance_opacity_logits, protected_gaussians());
     if (settings.camera_gradient && it < o.total_iterations)
       poses_.step(view, grads_.camera, pose_learning_rate(it));
 

@@ -192,6 +192,10 @@ class Trainer {
   std::vector<size_t> view_stack_;
   std::filesystem::path id_map_folder_;
   std::vector<std::unique_ptr<ObjectMap>> object_maps_;  // per view, loaded on first use
+  // The Gaussians whose sigma* may not fall (ObjectLossOptions::
+  // protected_agreement), read on first use.
+  std::vector<uint8_t> protected_;
+  const std::vector<uint8_t>& protected_gaussians();
   CpuRenderer renderer_;
   // Reused from iteration to iteration.
   std::unique_ptr<RenderState> render_state_;

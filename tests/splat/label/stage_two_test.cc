@@ -18,6 +18,7 @@
 #include "splat/label/object_ply.h"
 #include "splat/label/render_run.h"
 #include "splat/label/vote_run.h"
+#include "splat/npy.h"
 #include "splat/photo_cameras.h"
 #include "splat/ply.h"
 #include "splat/pose_file.h"
@@ -94,6 +95,43 @@ TEST(StageTwo, LearnsSigmaStarWithTheObjectLossAndResumesExactly) {
   resume.resume = true;
   run_training(scene(), b / "learn", resume);
   EXPECT_EQ(read_gaussian_ply(b / "learn/point_cloud/iteration_400/point_cloud.ply"), m);
+}
+
+// With --protect-agreement, the sigma* of every Gaussian whose votes agree
+// enough never falls below its start (sigma); the others still learn, and
+// a resumed run reads the agreement again.
+TEST(StageTwo, ProtectedGaussiansNeverLoseInstanceOpacity) {
+  TempDir a;
+  TrainRunOptions o = learn_options(350);
+  o.train.object_loss.protected_agreement = 0.9f;
+  o.train.object_loss.label_agreement = WorkLayout{stage_one_work() / "work"}.label_agreement();
+  run_training(scene(), a / "learn", o);
+  o.stop_at = 400;
+  o.resume = true;
+  run_training(scene(), a / "learn", o);
+  const GaussianModel m = read_gaussian_ply(a / "learn/point_cloud/iteration_400/point_cloud.ply");
+  const std::vector<uint8_t> kept =
+      read_protected_gaussians(o.train.object_loss.label_agreement, 0.9f, m.size());
+  // sigma* starts as stage one's sigma.
+  const std::vector<float> start =
+      read_gaussian_ply(stage_one_work() / "work/vote/point_cloud.ply").opacity_logits;
+  size_t protected_count = 0, fell = 0;
+  for (size_t i = 0; i < m.size(); ++i) {
+    if (kept[i]) {
+      ++protected_count;
+      EXPECT_GE(m.instance_opacity_logits[i], start[i]) << "Gaussian " << i;
+    } else {
+      fell += m.instance_opacity_logits[i] < start[i];
+    }
+  }
+  EXPECT_GT(protected_count, m.size() / 2);
+  EXPECT_GT(fell, 0u);  // the unprotected still learn to leave the masks
+  // An agreement file of another model is named.
+  write_npy_f64(a / "short.npy", {1.0, 1.0}, {2});
+  o.resume = false;
+  o.stop_at = 350;
+  o.train.object_loss.label_agreement = a / "short.npy";
+  EXPECT_THROW(run_training(scene(), a / "other", o), InputError);
 }
 
 TEST(StageTwo, LabelsOfAnotherModelAreRejected) {

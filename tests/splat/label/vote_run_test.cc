@@ -12,6 +12,7 @@
 #include "eval/synthetic/generator.h"
 #include "splat/error.h"
 #include "splat/id_maps.h"
+#include "splat/npy.h"
 #include "splat/ply.h"
 #include "splat/train/initialize.h"
 #include "tests/test_util.h"
@@ -73,12 +74,31 @@ TEST(VoteRun, WritesTheLabelledModelSummaryPreviewsAndBaselineMaps) {
   EXPECT_FALSE(named);  // instance_gt/ has none
 }
 
+// label_agreement.npy holds one share per Gaussian in the PLY's order: its
+// means per label are the summary's.
+void expect_agreement_matches_summary(const fs::path& vote, const nlohmann::json& summary) {
+  const GaussianModel m = read_gaussian_ply(vote / "point_cloud.ply");
+  std::vector<size_t> shape;
+  const std::vector<double> agreement = read_npy(vote / "label_agreement.npy", &shape);
+  ASSERT_EQ(shape, std::vector<size_t>{m.size()});
+  std::map<int, double> sum;
+  std::map<int, size_t> count;
+  for (size_t j = 0; j < m.size(); ++j) {
+    ASSERT_TRUE(agreement[j] >= 0 && agreement[j] <= 1);
+    sum[m.labels[j]] += agreement[j], ++count[m.labels[j]];
+  }
+  for (const auto& o : summary["objects"])
+    if (o["gaussians"].get<size_t>() > 0)
+      EXPECT_NEAR(sum[o["id"]] / count[o["id"]], o["vote_agreement"].get<double>(), 1e-9);
+}
+
 TEST(VoteRun, CorruptedMapsAgreeLessThanExactOnes) {
   TempDir exact, corrupted;
   const VoteRunResult a = run_voting(tiny_scene(), exact / "vote", options_for("instance_gt"));
   const VoteRunResult b = run_voting(tiny_scene(), corrupted / "vote", options_for("sam2"));
   EXPECT_LT(b.vote_agreement, a.vote_agreement);
   const auto summary = read_json(corrupted / "vote/summary.json");
+  expect_agreement_matches_summary(corrupted / "vote", summary);
   bool named = false;
   for (const auto& o : summary["objects"]) named |= o.contains("name");
   EXPECT_TRUE(named);  // sam2/objects.json names the IDs

@@ -10,6 +10,7 @@
 #include "splat/atomic_file.h"
 #include "splat/error.h"
 #include "splat/image_quality.h"
+#include "splat/npy.h"
 #include "splat/render/renderer.h"
 #include "splat/train/adam.h"
 #include "splat/train/image_loss.h"
@@ -63,13 +64,30 @@ TEST(ObjectLoss, SamplesDistinctPresentObjects) {
 }
 
 // Object 1 fills the left half of the view and object 2 the right half. A
-// floater in front of object 2 was given label 1 by voting. Training both
-// losses, the floater's sigma* falls towards zero while it keeps its opacity
-// and its share of the colour.
-TEST(ObjectLoss, MislabelledFloaterLosesInstanceOpacityButKeepsItsColour) {
+// floater in front of object 2 was given label 1 by voting.
+struct FloaterScene {
   GaussianModel m;
-  auto add = [&](Eigen::Vector3f mean, Eigen::Vector3f scale, float opacity, int32_t label,
-                 Eigen::Vector3f dc) {
+  Camera cam = Camera::look_at({0, 0, 0}, {0, 0, 4}, {0, -1, 0}, 48, 48, 40, 40);
+  IdMap ids{48, 48};  // the exact mask
+  ImageRGB target{48, 48};
+  static constexpr size_t kFloater = 2;
+
+  FloaterScene() {
+    add({-1.f, 0, 4}, {1.f, 2.f, 0.05f}, 0.99f, 1, {1, 0, 0});     // object 1
+    add({1.f, 0, 4}, {1.f, 2.f, 0.05f}, 0.99f, 2, {0, 0, 1});      // object 2
+    add({0.5f, 0, 2}, {0.15f, 0.15f, 0.15f}, 0.6f, 1, {0, 1, 0});  // the floater
+    m.has_labels = true;
+    m.instance_opacity_logits = m.opacity_logits;  // sigma* starts as sigma
+    m.has_instance_opacity = true;
+    const bool object_1_left = cam.project({-1, 0, 4}).x() < 24;
+    for (int y = 0; y < 48; ++y)
+      for (int x = 0; x < 48; ++x) ids.at(x, y) = (x < 24) == object_1_left ? 1 : 2;
+    // The colour is already right: only sigma* should move.
+    const RenderOutput r = CpuRenderer().render(m, cam, colour_settings());
+    target.data.assign(r.color.begin(), r.color.end());
+  }
+  void add(Eigen::Vector3f mean, Eigen::Vector3f scale, float opacity, int32_t label,
+           Eigen::Vector3f dc) {
     const size_t i = m.size();
     m.resize(i + 1);
     for (int k = 0; k < 3; ++k) {
@@ -79,57 +97,104 @@ TEST(ObjectLoss, MislabelledFloaterLosesInstanceOpacityButKeepsItsColour) {
     }
     m.opacity_logits[i] = std::log(opacity / (1 - opacity));
     m.labels[i] = label;
-  };
-  add({-1.f, 0, 4}, {1.f, 2.f, 0.05f}, 0.99f, 1, {1, 0, 0});     // object 1
-  add({1.f, 0, 4}, {1.f, 2.f, 0.05f}, 0.99f, 2, {0, 0, 1});      // object 2
-  add({0.5f, 0, 2}, {0.15f, 0.15f, 0.15f}, 0.6f, 1, {0, 1, 0});  // the floater
-  m.has_labels = true;
-  m.instance_opacity_logits = m.opacity_logits;  // sigma* starts as sigma
-  m.has_instance_opacity = true;
-
-  const Camera cam = Camera::look_at({0, 0, 0}, {0, 0, 4}, {0, -1, 0}, 48, 48, 40, 40);
-  IdMap ids(48, 48);
-  const bool object_1_left = cam.project({-1, 0, 4}).x() < 24;
-  for (int y = 0; y < 48; ++y)
-    for (int x = 0; x < 48; ++x) ids.at(x, y) = (x < 24) == object_1_left ? 1 : 2;
-  // The floater lies on object 2's side.
-  ASSERT_EQ(ids.at(int(cam.project({0.5, 0, 2}).x()), 24), 2);
-  const CpuRenderer renderer;
-  RenderSettings colour;
-  colour.sh_degree = 0;
-  const RenderOutput before = renderer.render(m, cam, colour);
-  ImageRGB target(48, 48);
-  target.data.assign(before.color.begin(),
-                     before.color.end());  // the colour is already right: only sigma* should move
-  const float sigma_before = m.opacity_logits[2];
-  const Eigen::Vector2d floater_pixel = cam.project({0.5, 0, 2});
-  const size_t fp = size_t(floater_pixel.y()) * 48 + size_t(floater_pixel.x());
-
-  RenderSettings s = colour;
-  s.instance_labels = {1, 2};
-  GaussianAdam adam(m.size());
-  RenderOutputGradients out_grads;
-  for (int it = 0; it < 300; ++it) {
-    std::unique_ptr<RenderState> state;
-    const RenderOutput r = renderer.render(m, cam, s, &state);
-    image_loss(r.color, target, {}, &out_grads.color);
-    object_loss(r.instance_maps, r.instance_map_labels, ids, 0.1f, &out_grads.instance_maps);
-    const GaussianGradients g = renderer.backward(m, cam, s, *state, out_grads);
-    // The object loss alone gives sigma no gradient; the colour loss is at its minimum.
-    adam.step(m, g, {1e-4f, 2.5e-3f, 1.25e-4f, 0.05f, 5e-3f, 1e-3f, 0.05f}, {}, 0);
   }
-  auto sigmoid = [](float x) { return 1 / (1 + std::exp(-x)); };
-  EXPECT_LT(sigmoid(m.instance_opacity_logits[2]), 0.05f);  // the floater leaves the mask
-  EXPECT_GT(sigmoid(m.instance_opacity_logits[0]), 0.9f);   // the objects stay
-  EXPECT_GT(sigmoid(m.instance_opacity_logits[1]), 0.9f);
-  EXPECT_NEAR(sigmoid(m.opacity_logits[2]), sigmoid(sigma_before), 0.02f);  // still visible
+  static RenderSettings colour_settings() {
+    RenderSettings s;
+    s.sh_degree = 0;
+    return s;
+  }
+  // Both losses against the photo and `mask`; with `keep`, those Gaussians'
+  // sigma* may not fall.
+  void train(const IdMap& mask, int iterations, const std::vector<uint8_t>* keep = nullptr) {
+    const CpuRenderer renderer;
+    RenderSettings s = colour_settings();
+    s.instance_labels = {1, 2};
+    GaussianAdam adam(m.size());
+    RenderOutputGradients out_grads;
+    for (int it = 0; it < iterations; ++it) {
+      std::unique_ptr<RenderState> state;
+      const RenderOutput r = renderer.render(m, cam, s, &state);
+      image_loss(r.color, target, {}, &out_grads.color);
+      object_loss(r.instance_maps, r.instance_map_labels, mask, 0.1f, &out_grads.instance_maps);
+      GaussianGradients g = renderer.backward(m, cam, s, *state, out_grads);
+      if (keep) keep_from_falling(g.instance_opacity_logits, *keep);
+      // The object loss alone gives sigma no gradient; the colour loss is at its minimum.
+      adam.step(m, g, {1e-4f, 2.5e-3f, 1.25e-4f, 0.05f, 5e-3f, 1e-3f, 0.05f}, {}, 0);
+    }
+  }
+  float sigma_star(size_t i) const { return 1 / (1 + std::exp(-m.instance_opacity_logits[i])); }
+  float sigma(size_t i) const { return 1 / (1 + std::exp(-m.opacity_logits[i])); }
+};
+
+// Training both losses, the floater's sigma* falls towards zero while it
+// keeps its opacity and its share of the colour.
+TEST(ObjectLoss, MislabelledFloaterLosesInstanceOpacityButKeepsItsColour) {
+  FloaterScene f;
+  // The floater lies on object 2's side.
+  ASSERT_EQ(f.ids.at(int(f.cam.project({0.5, 0, 2}).x()), 24), 2);
+  const CpuRenderer renderer;
+  const RenderOutput before = renderer.render(f.m, f.cam, f.colour_settings());
+  const float sigma_before = f.sigma(f.kFloater);
+  const Eigen::Vector2d floater_pixel = f.cam.project({0.5, 0, 2});
+  const size_t fp = size_t(floater_pixel.y()) * 48 + size_t(floater_pixel.x());
+  f.train(f.ids, 300);
+  EXPECT_LT(f.sigma_star(f.kFloater), 0.05f);  // the floater leaves the mask
+  EXPECT_GT(f.sigma_star(0), 0.9f);            // the objects stay
+  EXPECT_GT(f.sigma_star(1), 0.9f);
+  EXPECT_NEAR(f.sigma(f.kFloater), sigma_before, 0.02f);  // still visible
   // Its colour (0.5 + 0.28 dc) moves by at most 0.03.
-  for (int k = 0; k < 3; ++k) EXPECT_NEAR(m.sh_dc[6 + k], k == 1 ? 1.f : 0.f, 0.1f);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(f.m.sh_dc[6 + k], k == 1 ? 1.f : 0.f, 0.1f);
   // Geometry is shared by both losses, so the picture may shift a little,
   // but the floater still shows.
-  const RenderOutput after = renderer.render(m, cam, colour);
-  EXPECT_GT(psnr(after.color, target.data), 30.0);
+  const RenderOutput after = renderer.render(f.m, f.cam, f.colour_settings());
+  EXPECT_GT(psnr(after.color, f.target.data), 30.0);
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(after.color[3 * fp + k], before.color[3 * fp + k], 0.05f);
+}
+
+// A mask that missed object 1 (its half shows background) pulls object 1's
+// sigma* down; protected by its votes, it keeps its sigma*, while the
+// floater, unprotected, still leaves the mask.
+TEST(ObjectLoss, ProtectedGaussiansKeepTheirInstanceOpacityAgainstAMissedMask) {
+  FloaterScene f;
+  IdMap missed = f.ids;
+  for (uint16_t& id : missed.ids)
+    if (id == 1) id = 0;
+  const float start = f.sigma_star(0);
+  FloaterScene unprotected = f;
+  unprotected.train(missed, 300);
+  EXPECT_LT(unprotected.sigma_star(0), 0.5f);  // the hole the miss punches
+
+  const std::vector<uint8_t> keep = {1, 1, 0};
+  f.train(missed, 300, &keep);
+  EXPECT_GE(f.sigma_star(0), start);
+  EXPECT_GT(f.sigma_star(1), 0.9f);
+  EXPECT_LT(f.sigma_star(f.kFloater), 0.05f);
+}
+
+TEST(ObjectLoss, KeepFromFallingDropsOnlyTheProtectedGaussiansFall) {
+  std::vector<float> g = {0.5f, -0.5f, 0.5f, -0.5f};
+  keep_from_falling(g, {1, 1, 0, 0});
+  EXPECT_EQ(g, (std::vector<float>{0.f, -0.5f, 0.5f, -0.5f}));
+  EXPECT_THROW(keep_from_falling(g, {1}), std::invalid_argument);
+}
+
+TEST(ObjectLoss, ProtectedGaussiansAreReadFromTheVotesAgreement) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("op2gs-agreement-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  write_npy_f64(dir / "a.npy", {0.95, 0.5, 0.9, 0.0}, {4});
+  EXPECT_EQ(read_protected_gaussians(dir / "a.npy", 0.9f, 4), (std::vector<uint8_t>{1, 0, 1, 0}));
+  // Agreements of another model, or no agreement file at all, are named.
+  EXPECT_THROW(read_protected_gaussians(dir / "a.npy", 0.9f, 5), InputError);
+  EXPECT_THROW(read_protected_gaussians(dir / "none.npy", 0.9f, 4), InputError);
+  ObjectLossOptions o;
+  o.protected_agreement = 0.9f;
+  EXPECT_THROW(o.Check(), std::invalid_argument);  // no file named
+  o.label_agreement = dir / "a.npy";
+  EXPECT_NO_THROW(o.Check());
+  o.protected_agreement = 1.5f;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(ObjectLoss, TheVotesTrackCorrectionsAreRead) {
