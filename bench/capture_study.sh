@@ -19,7 +19,9 @@
 # init-<sigma* of every Gaussian at the start of stage two>. Pose variants:
 # fit (op2gs-render --fit-poses: the test views' cameras fitted to their
 # photos), poses (and op2gs-train --refine-poses), poses+tracks,
-# exposure+poses+tracks.
+# exposure+poses+tracks. Any variant followed by +protect-<share> (or
+# protect-<share> alone, for plain) also protects the sigma* of Gaussians whose
+# votes agree at least that much (op2gs-learn --protect-agreement).
 # Environment: SCALE (schedule divisor), SYNTH (extra op2gs-synth options for
 # every condition, e.g. "--width 640 --height 480 --views 60"), FIT_STEPS
 # (steps of each test view's pose fit, default 100).
@@ -49,7 +51,13 @@ for condition in "$@"; do
       > "$dir/synth.log" 2>&1
     for variant in $variants; do
       train_options=() vote_options=() learn_options=() render_options=()
-      case "$variant" in
+      recipe="$variant" protect=""
+      if [[ "$recipe" == protect-* ]]; then
+        protect="${recipe#protect-}" recipe=plain
+      elif [[ "$recipe" == *+protect-* ]]; then
+        protect="${recipe##*+protect-}" recipe="${recipe%+protect-*}"
+      fi
+      case "$recipe" in
         plain) ;;
         lambda-*) learn_options=(--lambda-o "${variant#lambda-}") ;;
         m-*) learn_options=(--objects-per-step "${variant#m-}") ;;
@@ -89,6 +97,7 @@ for condition in "$@"; do
           ;;
         *) echo "unknown variant $variant" >&2; exit 2 ;;
       esac
+      [ -n "$protect" ] && learn_options+=(--protect-agreement "$protect")
       # Variants that train alike share stage one.
       suffix=""
       [[ " ${train_options[*]:-} " == *" --exposure-compensation "* ]] && suffix+="-exposure"

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "splat/gaussians.h"
@@ -37,6 +38,12 @@ struct RenderSettings {
   // not be contiguous (IDs of other mask tools, objects lost in training), so
   // absent labels get no plane.
   bool all_instance_labels = false;
+  // The labels to render the occupancy maps with, one per Gaussian, instead
+  // of the model's (empty: the model's). Stage two's vote protection renders
+  // an object's protected and unprotected Gaussians to two maps this way
+  // (train/object_loss.h, split_labels). Must outlive the render and its
+  // backward pass.
+  std::span<const int32_t> labels;
   // Label of the Gaussian with the largest alpha*_i along the ray (up to
   // termination; only alpha*_i >= 1/255 counts, else 0).
   bool instance_label_map = false;

@@ -54,10 +54,18 @@ void check_settings(const RenderSettings& s, const Camera& camera) {
   if (!sorted.empty() && sorted.front() < 0) throw std::invalid_argument("labels must be >= 0");
 }
 
+void check_labels(const RenderSettings& s, const GaussianModel& m) {
+  if (!s.labels.empty() && s.labels.size() != m.size())
+    throw std::invalid_argument(
+        fmt::format("{} labels given for {} Gaussians", s.labels.size(), m.size()));
+}
+
 // Which labels get an occupancy map, and the plane of each label.
 void plan_instance_maps(const GaussianModel& m, const RenderSettings& s, RasterState& st,
                         RenderOutput& out) {
-  if (m.has_labels)
+  if (!s.labels.empty())
+    st.labels.assign(s.labels.begin(), s.labels.end());
+  else if (m.has_labels)
     st.labels.assign(m.labels.begin(), m.labels.end());
   else
     parallel_assign(st.labels, m.size(), 0);
@@ -87,6 +95,7 @@ void CpuRenderer::render(const GaussianModel& model, const Camera& camera,
                          const RenderSettings& settings, RenderOutput& out,
                          std::unique_ptr<RenderState>* state) const {
   check_settings(settings, camera);
+  check_labels(settings, model);
   // Reuse the caller's state (and its buffers) when it is one of ours.
   std::unique_ptr<CpuRenderState> own;
   CpuRenderState* cpu_state = state ? dynamic_cast<CpuRenderState*>(state->get()) : nullptr;

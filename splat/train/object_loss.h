@@ -30,13 +30,14 @@ struct ObjectLossOptions {
   // covered another object too).
   std::map<int32_t, int32_t> id_remap;
   std::map<std::string, std::vector<int32_t>> ignored_ids;  // by view name
-  // Vote-protected sigma*: a Gaussian whose label won at least this share of
-  // its votes (op2gs-vote's label_agreement.npy) is taken to belong to its
-  // object, and the loss may raise its sigma* but never lower it. Why: the
+  // Vote protection: a Gaussian whose label won at least this share of its
+  // votes (op2gs-vote's label_agreement.npy) is taken to belong to its
+  // object, and the pixels off a view's mask do not push it out
+  // (protected_object_loss): its sigma* may rise, never fall. Why: the
   // loss regresses sigma* on every view's mask, so the views whose mask
-  // missed a part of the object (a quarter of SAM2/DEVA's, persistently over
-  // runs of frames) pull the interior's sigma* down and punch holes in the
-  // masks, which boundary IoU punishes hard at full resolution; the majority
+  // missed a part of the object (SAM2 and DEVA do, often over runs of
+  // frames) pull the interior's sigma* down and punch holes in the masks,
+  // which boundary IoU punishes hard at full resolution, while the majority
   // vote already outvoted those views. Mislabelled Gaussians (floaters,
   // Gaussians straddling a border) split their votes and stay free to fall.
   // 0: off, every sigma* follows the loss (the paper).
@@ -51,9 +52,11 @@ struct ObjectLossOptions {
 std::vector<uint8_t> read_protected_gaussians(const std::filesystem::path& file, float threshold,
                                               size_t gaussians);
 
-// Drops the part of dLoss/d(sigma* logit) that would lower a protected
-// Gaussian's sigma* (a positive gradient, as the step descends).
-void keep_from_falling(std::span<float> instance_opacity_grad, const std::vector<uint8_t>& keep);
+// The labels that render each object's protected and unprotected Gaussians
+// to separate maps (RenderSettings::labels): an unprotected Gaussian's label
+// l becomes l + offset (offset: above every label).
+std::vector<int32_t> split_labels(const std::vector<int32_t>& labels,
+                                  const std::vector<uint8_t>& keep, int32_t offset);
 
 // Fills the corrections from op2gs-vote's summary.json ("joined_ids",
 // "merged_segments"); a summary without them leaves the options as they are.
@@ -77,5 +80,19 @@ std::vector<int32_t> sample_objects(const std::vector<int32_t>& present, int m,
 // clamped BCE.
 double object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
                    const IdMap& ids, float weight, std::vector<float>* grad);
+
+// The loss with vote protection. maps holds 2M planes: the M objects'
+// occupancy from their protected Gaussians, P_j, then from the others, U_j
+// (rendered with split_labels). The mask's pixels ask for the whole
+// occupancy S_j = P_j + U_j, as the plain loss does; the pixels off the mask
+// push only U_j down, so a view whose mask missed part of an object lowers
+// neither the sigma* nor the geometry of the Gaussians the votes are sure of:
+//
+//   L_obj = 1/M sum_j  mean_v  -[B_j log S_j + (1 - B_j) log(1 - U_j)].
+//
+// With no protected Gaussians it is object_loss. grad: as object_loss's,
+// 2M planes.
+double protected_object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
+                             const IdMap& ids, float weight, std::vector<float>* grad);
 
 }  // namespace splat

@@ -98,8 +98,9 @@ TEST(StageTwo, LearnsSigmaStarWithTheObjectLossAndResumesExactly) {
 }
 
 // With --protect-agreement, the sigma* of every Gaussian whose votes agree
-// enough never falls below its start (sigma); the others still learn, and
-// a resumed run reads the agreement again.
+// enough never falls below its start (sigma), as only the mask's pixels
+// reach it; the others still learn, and a resumed run reads the agreement
+// again.
 TEST(StageTwo, ProtectedGaussiansNeverLoseInstanceOpacity) {
   TempDir a;
   TrainRunOptions o = learn_options(350);

@@ -95,6 +95,37 @@ TEST(Renderer, AllObjectMapsSkipAbsentLabels) {
   expect_close(fast.instance_maps, ref.instance_maps, "sparse-label maps");
 }
 
+// Labels given in the settings replace the model's: splitting each object's
+// Gaussians in two (stage two's vote protection) gives two maps that add up
+// to the object's map, each as the reference renders the relabelled model.
+TEST(Renderer, LabelsOfTheSettingsSplitAnObjectsMapInTwo) {
+  const GaussianModel m = random_scene(250, 9, /*labels=*/3);
+  const Camera cam = test_camera();
+  RenderSettings whole;
+  whole.instance_labels = {1, 2, 3};
+  const RenderOutput joined = CpuRenderer().render(m, cam, whole);
+  std::vector<int32_t> split = m.labels;
+  for (size_t i = 1; i < split.size(); i += 2) split[i] += 10;
+  RenderSettings s;
+  s.labels = split;
+  s.instance_labels = {1, 2, 3, 11, 12, 13};
+  const RenderOutput parts = CpuRenderer().render(m, cam, s);
+  GaussianModel relabelled = m;
+  relabelled.labels = split;
+  const reference::Output ref = reference::render(reference::Params::from(relabelled), cam, s);
+  expect_close(parts.instance_maps, ref.instance_maps, "split maps");
+  const size_t pixels = size_t(cam.width) * cam.height;
+  double worst = 0;
+  for (size_t k = 0; k < 3 * pixels; ++k)
+    worst = std::max(worst,
+                     double(std::abs(parts.instance_maps[k] + parts.instance_maps[3 * pixels + k] -
+                                     joined.instance_maps[k])));
+  EXPECT_LE(worst, 1e-5);
+  split.pop_back();
+  s.labels = split;
+  EXPECT_THROW(CpuRenderer().render(m, cam, s), std::invalid_argument);  // one per Gaussian
+}
+
 TEST(Renderer, InstanceOnlyRenderGivesTheSameMaps) {
   const GaussianModel m = random_scene(250, 8);
   const Camera cam = test_camera();

@@ -109,15 +109,23 @@ struct FloaterScene {
     const CpuRenderer renderer;
     RenderSettings s = colour_settings();
     s.instance_labels = {1, 2};
+    std::vector<int32_t> split;
+    if (keep) {  // labels 1 and 2, then their unprotected Gaussians as 4 and 5
+      split = split_labels(m.labels, *keep, 3);
+      s.labels = split;
+      s.instance_labels = {1, 2, 4, 5};
+    }
     GaussianAdam adam(m.size());
     RenderOutputGradients out_grads;
     for (int it = 0; it < iterations; ++it) {
       std::unique_ptr<RenderState> state;
       const RenderOutput r = renderer.render(m, cam, s, &state);
       image_loss(r.color, target, {}, &out_grads.color);
-      object_loss(r.instance_maps, r.instance_map_labels, mask, 0.1f, &out_grads.instance_maps);
-      GaussianGradients g = renderer.backward(m, cam, s, *state, out_grads);
-      if (keep) keep_from_falling(g.instance_opacity_logits, *keep);
+      if (keep)
+        protected_object_loss(r.instance_maps, {1, 2}, mask, 0.1f, &out_grads.instance_maps);
+      else
+        object_loss(r.instance_maps, r.instance_map_labels, mask, 0.1f, &out_grads.instance_maps);
+      const GaussianGradients g = renderer.backward(m, cam, s, *state, out_grads);
       // The object loss alone gives sigma no gradient; the colour loss is at its minimum.
       adam.step(m, g, {1e-4f, 2.5e-3f, 1.25e-4f, 0.05f, 5e-3f, 1e-3f, 0.05f}, {}, 0);
     }
@@ -171,11 +179,48 @@ TEST(ObjectLoss, ProtectedGaussiansKeepTheirInstanceOpacityAgainstAMissedMask) {
   EXPECT_LT(f.sigma_star(f.kFloater), 0.05f);
 }
 
-TEST(ObjectLoss, KeepFromFallingDropsOnlyTheProtectedGaussiansFall) {
-  std::vector<float> g = {0.5f, -0.5f, 0.5f, -0.5f};
-  keep_from_falling(g, {1, 1, 0, 0});
-  EXPECT_EQ(g, (std::vector<float>{0.f, -0.5f, 0.5f, -0.5f}));
-  EXPECT_THROW(keep_from_falling(g, {1}), std::invalid_argument);
+TEST(ObjectLoss, SplitLabelsMoveOnlyTheUnprotected) {
+  EXPECT_EQ(split_labels({1, 2, 0, 2}, {1, 0, 0, 1}, 10), (std::vector<int32_t>{1, 12, 10, 2}));
+  EXPECT_THROW(split_labels({1, 2}, {1}, 10), std::invalid_argument);
+}
+
+// Planes P_1, P_2 (protected), then U_1, U_2.
+constexpr float kSplitMaps[] = {0.6f, 0.1f, 0.5f,  0.0f,  0.3f, 0.2f,  0.05f, 0.3f,
+                                0.1f, 0.4f, 0.2f,  0.01f, 0.2f, 0.1f,  0.3f,  0.3f,
+                                0.2f, 0.1f, 0.15f, 0.5f,  0.1f, 0.05f, 0.6f,  0.3f};
+
+TEST(ObjectLoss, ProtectedLossGradientMatchesFiniteDifferences) {
+  IdMap ids(3, 2);
+  ids.ids = {1, 1, 2, 0, 2, 1};
+  const std::vector<int32_t> labels = {1, 2};
+  std::vector<float> maps(std::begin(kSplitMaps), std::end(kSplitMaps)), grad;
+  const float weight = 0.1f;
+  protected_object_loss(maps, labels, ids, weight, &grad);
+  for (size_t i = 0; i < maps.size(); ++i) {
+    std::vector<float> plus = maps, minus = maps;
+    const float h = 1e-3f;
+    plus[i] += h, minus[i] -= h;
+    const double fd = weight *
+                      (protected_object_loss(plus, labels, ids, 1, nullptr) -
+                       protected_object_loss(minus, labels, ids, 1, nullptr)) /
+                      (2 * h);
+    EXPECT_NEAR(grad[i], fd, 1e-3 * std::abs(fd) + 1e-6) << i;
+  }
+  // Off the mask, the protected planes get no gradient.
+  for (size_t j = 0; j < 2; ++j)
+    for (size_t p = 0; p < 6; ++p)
+      if (ids.ids[p] != labels[j]) EXPECT_EQ(grad[j * 6 + p], 0.f);
+}
+
+TEST(ObjectLoss, ProtectedLossWithNothingProtectedIsThePlainLoss) {
+  IdMap ids(3, 2);
+  ids.ids = {1, 1, 2, 0, 2, 1};
+  const std::vector<float> plain(kSplitMaps + 12, kSplitMaps + 24);
+  std::vector<float> split(12, 0.f), g_plain, g_split;
+  split.insert(split.end(), plain.begin(), plain.end());
+  EXPECT_NEAR(protected_object_loss(split, {1, 2}, ids, 0.1f, &g_split),
+              object_loss(plain, {1, 2}, ids, 0.1f, &g_plain), 1e-12);
+  for (size_t i = 0; i < 12; ++i) EXPECT_FLOAT_EQ(g_split[12 + i], g_plain[i]) << i;
 }
 
 TEST(ObjectLoss, ProtectedGaussiansAreReadFromTheVotesAgreement) {
