@@ -45,14 +45,18 @@ struct TileBackState {
   int32_t block_last[kBlocks];                    // largest `last` of each block
   std::vector<float> g_planes;                    // dL/dS: [plane][block][lane]
   alignas(64) float zeros[kBlocks][kLanes] = {};  // dL/dS of labels without a map
+  int32_t first_geometry_plane = 0;               // planes below it reach sigma* only
 };
 
 // One Gaussian on one block (first pixel centre px0, py0): adds its pixels'
 // gradient terms to acc. kAlphaDepth: whether the loss has alpha or depth
 // terms (training has neither; leaving them out saves a tenth of the work).
 template <bool kColor, bool kInstance, bool kAlphaDepth>
+// instance_geometry: 1, or 0 when the Gaussian's occupancy map does not reach
+// the geometry.
 inline void back_block(const TileGaussians& tg, size_t k, float px0, float py0, int block,
-                       const float* g_plane, TileBackState& s, float (&acc)[kEntryGrads][kLanes]) {
+                       const float* g_plane, float instance_geometry, TileBackState& s,
+                       float (&acc)[kEntryGrads][kLanes]) {
   const SplatRecord& gs = tg[k];
   const float mx = gs.mx - px0, my = gs.my - py0, A = gs.A, B = gs.B, C = gs.C;
   const float op = gs.opacity, op_star = gs.instance_opacity, z = gs.depth;
@@ -99,7 +103,7 @@ inline void back_block(const TileGaussians& tg, size_t k, float px0, float py0, 
       // sigma* and the geometry (through G), never sigma or colour.
       const float g_star = m_valid * (op_star * G < kMaxAlpha ? 1.f : 0.f) * g_plane[l] * T_i;
       acc[kInstanceOpacity][l] += g_star * G;
-      g_G += g_star * op_star;
+      g_G += instance_geometry * g_star * op_star;
     }
     const float g_power = g_G * G;
     acc[kMeanX][l] -= g_power * (A * dx + B * dy);
@@ -123,9 +127,12 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0
     std::fill_n(&entry_grads[size_t(entries[k]) * kEntryGrads], kEntryGrads, 0.f);
   for (int32_t k = last - 1; k >= 0; --k) {
     const float* g_planes = nullptr;
-    if constexpr (kInstance)
+    float instance_geometry = 0.f;
+    if constexpr (kInstance) {
       g_planes =
           tg[k].plane >= 0 ? &s.g_planes[size_t(tg[k].plane) * kBlocks * kLanes] : &s.zeros[0][0];
+      instance_geometry = tg[k].plane >= s.first_geometry_plane ? 1.f : 0.f;
+    }
     alignas(64) float acc[kEntryGrads][kLanes] = {};
     // The blocks it reaches, among those with a pixel blended up to or past it.
     for (unsigned blocks = tg.block_mask[size_t(k)]; blocks; blocks &= blocks - 1) {
@@ -133,8 +140,8 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0
       if (k >= s.block_last[b]) continue;
       const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
       back_block<kColor, kInstance, kAlphaDepth>(tg, size_t(k), block.cx0(), block.cy0(), b,
-                                                 kInstance ? g_planes + b * kLanes : nullptr, s,
-                                                 acc);
+                                                 kInstance ? g_planes + b * kLanes : nullptr,
+                                                 instance_geometry, s, acc);
     }
     float* entry = &entry_grads[size_t(entries[k]) * kEntryGrads];
     for (int j = 0; j < kEntryGrads; ++j) {
@@ -252,6 +259,7 @@ void backward_band(const RenderSettings& settings, RasterState& st,
     std::vector<uint32_t> entries;
     auto s = std::make_unique<TileBackState>();
     s->g_planes.assign(planes * kBlocks * kLanes, 0.f);
+    s->first_geometry_plane = settings.maps_without_geometry_gradient;
     for (size_t t = range.begin(); t < range.end(); ++t) {
       const uint32_t lo = st.bins.tile_start[t], hi = st.bins.tile_start[t + 1];
       if (lo == hi) continue;  // no entries to write

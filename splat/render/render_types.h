@@ -44,6 +44,10 @@ struct RenderSettings {
   // (train/object_loss.h, split_labels). Must outlive the render and its
   // backward pass.
   std::span<const int32_t> labels;
+  // Backward: the gradient of the first this many occupancy maps reaches
+  // sigma* only, not the geometry (stage two's vote protection: the object
+  // loss does not move or reshape the Gaussians the votes are sure of).
+  int maps_without_geometry_gradient = 0;
   // Label of the Gaussian with the largest alpha*_i along the ray (up to
   // termination; only alpha*_i >= 1/255 counts, else 0).
   bool instance_label_map = false;

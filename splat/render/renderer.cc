@@ -52,6 +52,8 @@ void check_settings(const RenderSettings& s, const Camera& camera) {
   if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
     throw std::invalid_argument("instance_labels lists a label twice");
   if (!sorted.empty() && sorted.front() < 0) throw std::invalid_argument("labels must be >= 0");
+  if (s.maps_without_geometry_gradient < 0)
+    throw std::invalid_argument("maps without geometry gradient must be >= 0");
 }
 
 void check_labels(const RenderSettings& s, const GaussianModel& m) {

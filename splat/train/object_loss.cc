@@ -111,37 +111,22 @@ std::vector<int32_t> split_labels(const std::vector<int32_t>& labels,
   return out;
 }
 
-double protected_object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
-                             const IdMap& ids, float weight, std::vector<float>* grad) {
-  const size_t pixels = ids.ids.size(), m = labels.size();
-  if (maps.size() != 2 * m * pixels)
-    throw std::invalid_argument("protected_object_loss: map sizes differ");
-  if (grad) grad->assign(maps.size(), 0.f);
-  if (m == 0) return 0;
-  constexpr double kEps = 1e-6;
-  const double scale = 1.0 / (double(m) * double(pixels));
-  double loss = 0;
-  for (size_t j = 0; j < m; ++j) {
-    const float* P = &maps[j * pixels];
-    const float* U = &maps[(m + j) * pixels];
-    float* gP = grad ? &(*grad)[j * pixels] : nullptr;
-    float* gU = grad ? &(*grad)[(m + j) * pixels] : nullptr;
-    double sum = 0;
-    for (size_t p = 0; p < pixels; ++p) {
-      // d/dS of the clamped loss is zero where the clamp is active.
-      if (ids.ids[p] == labels[j]) {
-        const double raw = double(P[p]) + U[p], s = std::clamp(raw, kEps, 1 - kEps);
-        sum -= std::log(s);
-        if (gP && raw > kEps && raw < 1 - kEps) gP[p] = gU[p] = float(-weight * scale / s);
-      } else {
-        const double u = std::clamp(double(U[p]), kEps, 1 - kEps);
-        sum -= std::log(1 - u);
-        if (gU && U[p] > kEps && U[p] < 1 - kEps) gU[p] = float(weight * scale / (1 - u));
-      }
-    }
-    loss += sum;
-  }
-  return loss * scale;
+void keep_from_falling(std::span<float> grad, const std::vector<uint8_t>& keep) {
+  if (grad.size() != keep.size())
+    throw std::invalid_argument("keep_from_falling: one flag per Gaussian expected");
+  for (size_t i = 0; i < grad.size(); ++i)
+    if (keep[i]) grad[i] = std::min(grad[i], 0.f);
+}
+
+double split_object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
+                         const IdMap& ids, float weight, std::vector<float>* grad) {
+  const size_t half = labels.size() * ids.ids.size();
+  if (maps.size() != 2 * half) throw std::invalid_argument("split_object_loss: map sizes differ");
+  std::vector<float> whole(half);
+  for (size_t k = 0; k < half; ++k) whole[k] = maps[k] + maps[half + k];
+  const double loss = object_loss(whole, labels, ids, weight, grad);
+  if (grad) grad->insert(grad->end(), grad->begin(), grad->end());
+  return loss;
 }
 
 }  // namespace splat

@@ -32,8 +32,9 @@ struct ObjectLossOptions {
   std::map<std::string, std::vector<int32_t>> ignored_ids;  // by view name
   // Vote protection: a Gaussian whose label won at least this share of its
   // votes (op2gs-vote's label_agreement.npy) is taken to belong to its
-  // object, and the pixels off a view's mask do not push it out
-  // (protected_object_loss): its sigma* may rise, never fall. Why: the
+  // object. The object loss may raise its sigma* (a glass object's faint
+  // Gaussians must show in the mask) but neither lower it nor move or
+  // reshape the Gaussian, which the photos alone shape. Why: the
   // loss regresses sigma* on every view's mask, so the views whose mask
   // missed a part of the object (SAM2 and DEVA do, often over runs of
   // frames) pull the interior's sigma* down and punch holes in the masks,
@@ -81,18 +82,15 @@ std::vector<int32_t> sample_objects(const std::vector<int32_t>& present, int m,
 double object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
                    const IdMap& ids, float weight, std::vector<float>* grad);
 
-// The loss with vote protection. maps holds 2M planes: the M objects'
-// occupancy from their protected Gaussians, P_j, then from the others, U_j
-// (rendered with split_labels). The mask's pixels ask for the whole
-// occupancy S_j = P_j + U_j, as the plain loss does; the pixels off the mask
-// push only U_j down, so a view whose mask missed part of an object lowers
-// neither the sigma* nor the geometry of the Gaussians the votes are sure of:
-//
-//   L_obj = 1/M sum_j  mean_v  -[B_j log S_j + (1 - B_j) log(1 - U_j)].
-//
-// With no protected Gaussians it is object_loss. grad: as object_loss's,
-// 2M planes.
-double protected_object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
-                             const IdMap& ids, float weight, std::vector<float>* grad);
+// The object loss of maps split in two (split_labels): maps holds 2M
+// planes, the M objects' occupancy from their protected Gaussians, then from
+// the others. The loss is object_loss of their sums, S_j; grad gets its
+// dLoss/dS_j for both halves (2M planes).
+double split_object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
+                         const IdMap& ids, float weight, std::vector<float>* grad);
+
+// Drops the part of dLoss/d(sigma* logit) that would lower a protected
+// Gaussian's sigma* (a positive gradient, as the step descends).
+void keep_from_falling(std::span<float> instance_opacity_grad, const std::vector<uint8_t>& keep);
 
 }  // namespace splat

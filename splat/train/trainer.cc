@@ -140,15 +140,12 @@ const Trainer::ObjectMap& Trainer::object_map(size_t view) {
   return *object_maps_[view];
 }
 
-const std::vector<int32_t>& Trainer::protection_labels() {
-  if (split_labels_.size() != model_.size()) {
-    const std::vector<uint8_t> keep =
-        read_protected_gaussians(options_.object_loss.label_agreement,
-                                 options_.object_loss.protected_agreement, model_.size());
-    split_offset_ = 1 + *std::max_element(model_.labels.begin(), model_.labels.end());
-    split_labels_ = split_labels(model_.labels, keep, split_offset_);
-  }
-  return split_labels_;
+void Trainer::read_protection() {
+  if (protected_.size() == model_.size()) return;
+  protected_ = read_protected_gaussians(options_.object_loss.label_agreement,
+                                        options_.object_loss.protected_agreement, model_.size());
+  split_offset_ = 1 + *std::max_element(model_.labels.begin(), model_.labels.end());
+  split_labels_ = split_labels(model_.labels, protected_, split_offset_);
 }
 
 float Trainer::position_learning_rate(int iteration) const {
@@ -195,9 +192,13 @@ void Trainer::train_until(int until,
     if (objects) {
       st.objects = sample_objects(objects->objects, o.object_loss.objects_per_step, rng_);
       settings.instance_labels = st.objects;
-      if (protects()) {  // each object's protected Gaussians, then its others
-        settings.labels = protection_labels();
+      if (protects()) {
+        // Each object's protected Gaussians, whose map reaches sigma* only,
+        // then its others.
+        read_protection();
+        settings.labels = split_labels_;
         for (int32_t id : st.objects) settings.instance_labels.push_back(id + split_offset_);
+        settings.maps_without_geometry_gradient = int(st.objects.size());
       }
     }
     renderer_.render(model_, cam, settings, render_out_, &render_state_);
@@ -209,8 +210,8 @@ void Trainer::train_until(int until,
     }
     st.loss = image_loss(shown, target_, o.loss, &out_grads_.color, &loss_buffers_);
     if (objects && protects())
-      st.object_loss = protected_object_loss(render_out_.instance_maps, st.objects, objects->ids,
-                                             o.object_loss.weight, &out_grads_.instance_maps);
+      st.object_loss = split_object_loss(render_out_.instance_maps, st.objects, objects->ids,
+                                         o.object_loss.weight, &out_grads_.instance_maps);
     else if (objects)
       st.object_loss = object_loss(render_out_.instance_maps, render_out_.instance_map_labels,
                                    objects->ids, o.object_loss.weight, &out_grads_.instance_maps);
@@ -229,6 +230,7 @@ void Trainer::train_until(int until,
                                   o.exposure.regularization);
     }
     renderer_.backward(model_, cam, settings, *render_state_, out_grads_, grads_);
+    if (objects && protects()) keep_from_falling(grads_.instance_opacity_logits, protected_);
     if (settings.camera_gradient && it < o.total_iterations)
       poses_.step(view, grads_.camera, pose_learning_rate(it));
 

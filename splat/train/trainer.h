@@ -192,13 +192,14 @@ class Trainer {
   std::vector<size_t> view_stack_;
   std::filesystem::path id_map_folder_;
   std::vector<std::unique_ptr<ObjectMap>> object_maps_;  // per view, loaded on first use
-  // Vote protection (ObjectLossOptions::protected_agreement): the labels
-  // that render protected and unprotected Gaussians apart (split_labels),
-  // made on first use, and the offset of the unprotected ones.
+  // Vote protection (ObjectLossOptions::protected_agreement), read on first
+  // use: the protected Gaussians, the labels that render them apart from the
+  // others (split_labels), and the offset of the others' labels.
+  std::vector<uint8_t> protected_;
   std::vector<int32_t> split_labels_;
   int32_t split_offset_ = 0;
   bool protects() const { return options_.object_loss.protected_agreement > 0; }
-  const std::vector<int32_t>& protection_labels();
+  void read_protection();
   CpuRenderer renderer_;
   // Reused from iteration to iteration.
   std::unique_ptr<RenderState> render_state_;

@@ -183,6 +183,41 @@ TEST(RendererBackward, ObjectLossNeverReachesOpacityOrColour) {
   EXPECT_GT(geometry, 0.0);
 }
 
+// The first maps_without_geometry_gradient maps reach sigma* only: their
+// Gaussians get no geometry gradient from them, and everything else is as
+// without the setting.
+TEST(RendererBackward, MapsWithoutGeometryGradientReachSigmaStarOnly) {
+  const GaussianModel m = random_scene(400, 23);
+  const Camera cam = test_camera(64, 48);
+  RenderSettings s;
+  s.color = false;
+  s.instance_labels = {1, 2, 4};
+  const size_t pixels = size_t(cam.width) * cam.height;
+  RenderOutputGradients g;
+  g.instance_maps = random_weights(3 * pixels, 6);
+  const CpuRenderer renderer;
+  std::unique_ptr<RenderState> state;
+  renderer.render(m, cam, s, &state);
+  const GaussianGradients all = renderer.backward(m, cam, s, *state, g);
+  s.maps_without_geometry_gradient = 1;  // label 1's map
+  const GaussianGradients cut = renderer.backward(m, cam, s, *state, g);
+  double label_1_star = 0;
+  for (size_t i = 0; i < m.size(); ++i) {
+    EXPECT_EQ(cut.instance_opacity_logits[i], all.instance_opacity_logits[i]);
+    for (int k = 0; k < 3; ++k) {
+      if (m.labels[i] == 1) {
+        EXPECT_EQ(cut.means[3 * i + k], 0.f);
+        EXPECT_EQ(cut.log_scales[3 * i + k], 0.f);
+      } else {
+        EXPECT_FLOAT_EQ(cut.means[3 * i + k], all.means[3 * i + k]);
+        EXPECT_FLOAT_EQ(cut.log_scales[3 * i + k], all.log_scales[3 * i + k]);
+      }
+    }
+    if (m.labels[i] == 1) label_1_star += std::abs(cut.instance_opacity_logits[i]);
+  }
+  EXPECT_GT(label_1_star, 0.0);
+}
+
 TEST(RendererBackward, ColourLossNeverReachesInstanceOpacity) {
   const GaussianModel m = random_scene(400, 22);
   const Camera cam = test_camera(64, 48);
