@@ -111,11 +111,13 @@ std::vector<int32_t> split_labels(const std::vector<int32_t>& labels,
   return out;
 }
 
-void keep_from_falling(std::span<float> grad, const std::vector<uint8_t>& keep) {
-  if (grad.size() != keep.size())
-    throw std::invalid_argument("keep_from_falling: one flag per Gaussian expected");
-  for (size_t i = 0; i < grad.size(); ++i)
-    if (keep[i]) grad[i] = std::min(grad[i], 0.f);
+void keep_in_mask(std::span<float> instance_opacity_logits, std::span<const float> opacity_logits,
+                  const std::vector<uint8_t>& keep) {
+  if (instance_opacity_logits.size() != keep.size() || opacity_logits.size() != keep.size())
+    throw std::invalid_argument("keep_in_mask: one flag per Gaussian expected");
+  for (size_t i = 0; i < keep.size(); ++i)
+    if (keep[i])
+      instance_opacity_logits[i] = std::max(instance_opacity_logits[i], opacity_logits[i]);
 }
 
 double split_object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,

@@ -32,9 +32,10 @@ struct ObjectLossOptions {
   std::map<std::string, std::vector<int32_t>> ignored_ids;  // by view name
   // Vote protection: a Gaussian whose label won at least this share of its
   // votes (op2gs-vote's label_agreement.npy) is taken to belong to its
-  // object. The object loss may raise its sigma* (a glass object's faint
-  // Gaussians must show in the mask) but neither lower it nor move or
-  // reshape the Gaussian, which the photos alone shape. Why: the
+  // object: its sigma* stays at least its sigma (keep_in_mask), and the
+  // object loss does not move or reshape it, which the photos alone do.
+  // Above sigma, the loss moves its sigma* both ways (a glass object's faint
+  // Gaussians must rise to show in the mask). Why: the
   // loss regresses sigma* on every view's mask, so the views whose mask
   // missed a part of the object (SAM2 and DEVA do, often over runs of
   // frames) pull the interior's sigma* down and punch holes in the masks,
@@ -89,8 +90,11 @@ double object_loss(std::span<const float> maps, const std::vector<int32_t>& labe
 double split_object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
                          const IdMap& ids, float weight, std::vector<float>* grad);
 
-// Drops the part of dLoss/d(sigma* logit) that would lower a protected
-// Gaussian's sigma* (a positive gradient, as the step descends).
-void keep_from_falling(std::span<float> instance_opacity_grad, const std::vector<uint8_t>& keep);
+// Raises a protected Gaussian's sigma* to its sigma where it fell below (the
+// projection after each step): it is at least as present in its object's
+// mask as in the picture. Above that, sigma* moves freely, both ways, so
+// the noise of the masks does not ratchet it up.
+void keep_in_mask(std::span<float> instance_opacity_logits, std::span<const float> opacity_logits,
+                  const std::vector<uint8_t>& keep);
 
 }  // namespace splat

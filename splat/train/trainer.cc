@@ -230,7 +230,6 @@ void Trainer::train_until(int until,
                                   o.exposure.regularization);
     }
     renderer_.backward(model_, cam, settings, *render_state_, out_grads_, grads_);
-    if (objects && protects()) keep_from_falling(grads_.instance_opacity_logits, protected_);
     if (settings.camera_gradient && it < o.total_iterations)
       poses_.step(view, grads_.camera, pose_learning_rate(it));
 
@@ -258,6 +257,8 @@ void Trainer::train_until(int until,
           o.lr_rotation,
           model_.has_instance_opacity ? o.lr_instance_opacity : 0.f};
       adam_.step(model_, grads_, lr, skip, sh_degree_);
+      if (objects && protects())
+        keep_in_mask(model_.instance_opacity_logits, model_.opacity_logits, protected_);
     }
     st.gaussians = model_.size();
     if (on_iteration) on_iteration(st);
