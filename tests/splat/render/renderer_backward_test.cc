@@ -154,18 +154,23 @@ TEST_P(GradientsMatchFiniteDifferences, ObjectLossWithTransmittanceHeld) {
 
 INSTANTIATE_TEST_SUITE_P(Seeds, GradientsMatchFiniteDifferences, ::testing::Values(11u, 12u, 13u));
 
+// The gradients of a random weighting of the occupancy maps s asks for.
+GaussianGradients occupancy_gradients(const GaussianModel& m, const Camera& cam,
+                                      const RenderSettings& s, unsigned seed) {
+  RenderOutputGradients g;
+  g.instance_maps = random_weights(s.instance_labels.size() * cam.width * cam.height, seed);
+  const CpuRenderer renderer;
+  std::unique_ptr<RenderState> state;
+  renderer.render(m, cam, s, &state);
+  return renderer.backward(m, cam, s, *state, g);
+}
+
 TEST(RendererBackward, ObjectLossNeverReachesOpacityOrColour) {
   const GaussianModel m = random_scene(400, 21);
   const Camera cam = test_camera(64, 48);
   RenderSettings s;
   s.instance_labels = {1, 2, 4};
-  const size_t pixels = size_t(cam.width) * cam.height;
-  RenderOutputGradients g;
-  g.instance_maps = random_weights(3 * pixels, 5);
-  const CpuRenderer renderer;
-  std::unique_ptr<RenderState> state;
-  renderer.render(m, cam, s, &state);
-  const GaussianGradients grads = renderer.backward(m, cam, s, *state, g);
+  const GaussianGradients grads = occupancy_gradients(m, cam, s, 5);
   double star = 0, geometry = 0;
   for (size_t i = 0; i < m.size(); ++i) {
     ASSERT_EQ(grads.opacity_logits[i], 0.f);
@@ -192,15 +197,9 @@ TEST(RendererBackward, MapsWithoutGeometryGradientReachSigmaStarOnly) {
   RenderSettings s;
   s.color = false;
   s.instance_labels = {1, 2, 4};
-  const size_t pixels = size_t(cam.width) * cam.height;
-  RenderOutputGradients g;
-  g.instance_maps = random_weights(3 * pixels, 6);
-  const CpuRenderer renderer;
-  std::unique_ptr<RenderState> state;
-  renderer.render(m, cam, s, &state);
-  const GaussianGradients all = renderer.backward(m, cam, s, *state, g);
+  const GaussianGradients all = occupancy_gradients(m, cam, s, 6);
   s.maps_without_geometry_gradient = 1;  // label 1's map
-  const GaussianGradients cut = renderer.backward(m, cam, s, *state, g);
+  const GaussianGradients cut = occupancy_gradients(m, cam, s, 6);
   double label_1_star = 0;
   for (size_t i = 0; i < m.size(); ++i) {
     EXPECT_EQ(cut.instance_opacity_logits[i], all.instance_opacity_logits[i]);
