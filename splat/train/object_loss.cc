@@ -120,6 +120,12 @@ void keep_in_mask(std::span<float> instance_opacity_logits, std::span<const floa
       instance_opacity_logits[i] = std::max(instance_opacity_logits[i], opacity_logits[i]);
 }
 
+int32_t split_label_offset(const std::vector<int32_t>& labels) {
+  int32_t offset = 1 << 16;
+  for (int32_t l : labels) offset = std::max(offset, l + 1);
+  return offset;
+}
+
 double split_object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
                          const IdMap& ids, float weight, std::vector<float>* grad) {
   const size_t half = labels.size() * ids.ids.size();

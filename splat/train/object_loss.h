@@ -56,7 +56,7 @@ std::vector<uint8_t> read_protected_gaussians(const std::filesystem::path& file,
 
 // The labels that render each object's protected and unprotected Gaussians
 // to separate maps (RenderSettings::labels): an unprotected Gaussian's label
-// l becomes l + offset (offset: above every label).
+// l becomes l + offset (split_label_offset).
 std::vector<int32_t> split_labels(const std::vector<int32_t>& labels,
                                   const std::vector<uint8_t>& keep, int32_t offset);
 
@@ -87,6 +87,10 @@ double object_loss(std::span<const float> maps, const std::vector<int32_t>& labe
 // planes, the M objects' occupancy from their protected Gaussians, then from
 // the others. The loss is object_loss of their sums, S_j; grad gets its
 // dLoss/dS_j for both halves (2M planes).
+// An offset that takes every label, and every ID an ID map can hold (16
+// bits; a map may show IDs no Gaussian carries), past all of them.
+int32_t split_label_offset(const std::vector<int32_t>& labels);
+
 double split_object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
                          const IdMap& ids, float weight, std::vector<float>* grad);
 

@@ -144,7 +144,7 @@ void Trainer::read_protection() {
   if (protected_.size() == model_.size()) return;
   protected_ = read_protected_gaussians(options_.object_loss.label_agreement,
                                         options_.object_loss.protected_agreement, model_.size());
-  split_offset_ = 1 + *std::max_element(model_.labels.begin(), model_.labels.end());
+  split_offset_ = split_label_offset(model_.labels);
   split_labels_ = split_labels(model_.labels, protected_, split_offset_);
 }
 

@@ -193,6 +193,13 @@ TEST(ObjectLoss, ProtectedGaussiansKeepTheirInstanceOpacityAgainstAMissedMask) {
   EXPECT_LT(f.sigma_star(f.kFloater), 0.05f);
 }
 
+// The unprotected labels must not meet any ID a map may show, even IDs no
+// Gaussian carries (a map's object 9 in a model labelled up to 5).
+TEST(ObjectLoss, SplitLabelOffsetPassesEveryMapId) {
+  EXPECT_EQ(split_label_offset({0, 5, 3}), 65536);
+  EXPECT_EQ(split_label_offset({70000}), 70001);
+}
+
 TEST(ObjectLoss, SplitLabelsMoveOnlyTheUnprotected) {
   EXPECT_EQ(split_labels({1, 2, 0, 2}, {1, 0, 0, 1}, 10), (std::vector<int32_t>{1, 12, 10, 2}));
   EXPECT_THROW(split_labels({1, 2}, {1}, 10), std::invalid_argument);
