@@ -48,6 +48,8 @@ void ObjectLossOptions::Check() const {
 
 std::vector<uint8_t> read_protected_gaussians(const std::filesystem::path& file, float threshold,
                                               size_t gaussians) {
+  if (!std::filesystem::exists(file))
+    throw InputError(file, "no label agreement; run op2gs-vote (which writes it) on this model");
   std::vector<size_t> shape;
   const std::vector<double> agreement = read_npy(file, &shape);
   if (shape.size() != 1 || agreement.size() != gaussians)
