@@ -35,12 +35,12 @@ struct ObjectLossOptions {
   // object: its sigma* stays at least its sigma (keep_in_mask), and the
   // object loss does not move or reshape it, which the photos alone do.
   // Above sigma, the loss moves its sigma* both ways (a glass object's faint
-  // Gaussians must rise to show in the mask). Why: the
-  // loss regresses sigma* on every view's mask, so the views whose mask
-  // missed a part of the object (SAM2 and DEVA do, often over runs of
-  // frames) pull the interior's sigma* down and punch holes in the masks,
-  // which boundary IoU punishes hard at full resolution, while the majority
-  // vote already outvoted those views. Mislabelled Gaussians (floaters,
+  // Gaussians must rise to show in the mask). Why: the loss regresses
+  // sigma* on every view's mask, so the views whose mask missed a part of
+  // the object (SAM2 and DEVA do, often over runs of frames) pull the
+  // interior's sigma* down and punch holes in the masks, which boundary IoU
+  // punishes hard at full resolution, while the majority vote already
+  // outvoted those views. Mislabelled Gaussians (floaters,
   // Gaussians straddling a border) split their votes and stay free to fall.
   // 0: off, every sigma* follows the loss (the paper).
   float protected_agreement = 0.f;
@@ -83,14 +83,14 @@ std::vector<int32_t> sample_objects(const std::vector<int32_t>& present, int m,
 double object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
                    const IdMap& ids, float weight, std::vector<float>* grad);
 
-// The object loss of maps split in two (split_labels): maps holds 2M
-// planes, the M objects' occupancy from their protected Gaussians, then from
-// the others. The loss is object_loss of their sums, S_j; grad gets its
-// dLoss/dS_j for both halves (2M planes).
 // An offset that takes every label, and every ID an ID map can hold (16
 // bits; a map may show IDs no Gaussian carries), past all of them.
 int32_t split_label_offset(const std::vector<int32_t>& labels);
 
+// The object loss of maps split in two (split_labels): maps holds 2M
+// planes, the M objects' occupancy from their protected Gaussians, then from
+// the others. The loss is object_loss of their sums, S_j; grad gets its
+// dLoss/dS_j for both halves (2M planes).
 double split_object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
                          const IdMap& ids, float weight, std::vector<float>* grad);
 
