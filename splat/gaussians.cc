@@ -23,17 +23,6 @@ void GaussianModel::resize(size_t n) {
 
 namespace {
 
-template <typename T>
-void reorder_array(std::vector<T>& values, size_t width, const std::vector<uint32_t>& order) {
-  if (values.empty()) return;
-  std::vector<T> out(values.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, order.size(), 16384), [&](const auto& range) {
-    for (size_t k = range.begin(); k < range.end(); ++k)
-      std::copy_n(&values[width * order[k]], width, &out[width * k]);
-  });
-  values.swap(out);
-}
-
 // 10 bits of x, y and z interleaved.
 uint32_t morton_code(uint32_t x, uint32_t y, uint32_t z) {
   auto spread = [](uint32_t v) {
@@ -47,6 +36,20 @@ uint32_t morton_code(uint32_t x, uint32_t y, uint32_t z) {
 }
 
 }  // namespace
+
+template <typename T>
+void reorder_array(std::vector<T>& values, size_t width, const std::vector<uint32_t>& order) {
+  if (values.empty()) return;
+  std::vector<T> out(values.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, order.size(), 16384), [&](const auto& range) {
+    for (size_t k = range.begin(); k < range.end(); ++k)
+      std::copy_n(&values[width * order[k]], width, &out[width * k]);
+  });
+  values.swap(out);
+}
+template void reorder_array(std::vector<float>&, size_t, const std::vector<uint32_t>&);
+template void reorder_array(std::vector<int32_t>&, size_t, const std::vector<uint32_t>&);
+template void reorder_array(std::vector<double>&, size_t, const std::vector<uint32_t>&);
 
 void reorder_gaussians(GaussianModel& m, const std::vector<uint32_t>& order) {
   if (order.size() != m.size()) throw std::invalid_argument("reorder: order has the wrong size");

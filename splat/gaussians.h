@@ -72,6 +72,10 @@ void keep_entries(std::vector<T>& v, size_t w, const std::vector<uint8_t>& keep)
 // Puts Gaussian order[k] at position k, in every array (order is a
 // permutation of 0..size-1).
 void reorder_gaussians(GaussianModel& m, const std::vector<uint32_t>& order);
+// The same for one per-Gaussian array of `width` values per Gaussian (float,
+// int32_t or double).
+template <typename T>
+void reorder_array(std::vector<T>& values, size_t width, const std::vector<uint32_t>& order);
 
 // A permutation that puts Gaussians close in space close in memory (Morton
 // order of the centres, over the box holding all but the farthest 0.1% on

@@ -170,14 +170,6 @@ std::vector<double> label_agreement(const LabelVotes& votes) {
   return a;
 }
 
-// values[order[k]] for every k: the same permutation reorder_gaussians applies.
-std::vector<double> in_order(const std::vector<double>& values,
-                             const std::vector<uint32_t>& order) {
-  std::vector<double> out(order.size());
-  for (size_t k = 0; k < order.size(); ++k) out[k] = values[order[k]];
-  return out;
-}
-
 // Render states for the depth maps, handed from view to view: a state holds
 // buffers for every Gaussian, and allocating them afresh in every view costs
 // as much as a good part of the render.
@@ -395,7 +387,8 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const V
   const std::vector<uint32_t> back = inverse_order(order);
   reorder_gaussians(model, back);
   write_gaussian_ply(out / "point_cloud.ply", model);
-  write_npy_f64(out / "label_agreement.npy", in_order(agreement, back), {agreement.size()});
+  reorder_array(agreement, 1, back);
+  write_npy_f64(out / "label_agreement.npy", agreement, {agreement.size()});
   summary["model"] = o.model.string();
   summary["iteration"] = run.stage_one.iteration;
   summary["id_maps"] = run.folder.string();

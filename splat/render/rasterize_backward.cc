@@ -51,15 +51,16 @@ struct TileBackState {
 // One Gaussian on one block (first pixel centre px0, py0): adds its pixels'
 // gradient terms to acc. kAlphaDepth: whether the loss has alpha or depth
 // terms (training has neither; leaving them out saves a tenth of the work).
-template <bool kColor, bool kInstance, bool kAlphaDepth>
 // instance_geometry: 1, or 0 when the Gaussian's occupancy map does not reach
 // the geometry.
+template <bool kColor, bool kInstance, bool kAlphaDepth>
 inline void back_block(const TileGaussians& tg, size_t k, float px0, float py0, int block,
                        const float* g_plane, float instance_geometry, TileBackState& s,
                        float (&acc)[kEntryGrads][kLanes]) {
   const SplatRecord& gs = tg[k];
   const float mx = gs.mx - px0, my = gs.my - py0, A = gs.A, B = gs.B, C = gs.C;
   const float op = gs.opacity, op_star = gs.instance_opacity, z = gs.depth;
+  const float op_star_geometry = instance_geometry * op_star;  // once, not per lane
   const int32_t position = int32_t(k);
   float c[3] = {0, 0, 0};
   if constexpr (kColor) c[0] = gs.r, c[1] = gs.g, c[2] = gs.b;
@@ -103,7 +104,7 @@ inline void back_block(const TileGaussians& tg, size_t k, float px0, float py0, 
       // sigma* and the geometry (through G), never sigma or colour.
       const float g_star = m_valid * (op_star * G < kMaxAlpha ? 1.f : 0.f) * g_plane[l] * T_i;
       acc[kInstanceOpacity][l] += g_star * G;
-      g_G += instance_geometry * g_star * op_star;
+      g_G += g_star * op_star_geometry;
     }
     const float g_power = g_G * G;
     acc[kMeanX][l] -= g_power * (A * dx + B * dy);

@@ -87,9 +87,11 @@ void expect_agreement_matches_summary(const fs::path& vote, const nlohmann::json
     ASSERT_TRUE(agreement[j] >= 0 && agreement[j] <= 1);
     sum[m.labels[j]] += agreement[j], ++count[m.labels[j]];
   }
-  for (const auto& o : summary["objects"])
-    if (o["gaussians"].get<size_t>() > 0)
+  for (const auto& o : summary["objects"]) {
+    if (o["gaussians"].get<size_t>() > 0) {
       EXPECT_NEAR(sum[o["id"]] / count[o["id"]], o["vote_agreement"].get<double>(), 1e-9);
+    }
+  }
 }
 
 TEST(VoteRun, CorruptedMapsAgreeLessThanExactOnes) {
