@@ -76,6 +76,18 @@ to_do_from() {
 }
 cp -a "$tmp/work" "$tmp/finished"
 
+# The next make after a kill (WHAT says which) finishes the run, and its
+# outputs are the uninterrupted run's.
+rerun_and_compare() {
+  mk "${run[@]}" > "$tmp/after.log" 2>&1 ||
+    { tail -5 "$tmp/after.log"; fail "$1: the run after it failed"; }
+  if [ "$(outputs)" != "$reference" ]; then
+    diff <(echo "$reference") <(outputs) | head -5 || true
+    fail "$1: outputs differ from the uninterrupted run"
+  fi
+  echo "$1: outputs identical after the rerun"
+}
+
 # Odd kills find the stage never run before, even ones find its outputs of
 # an earlier run (so it replaces them). Either way the stages before it are
 # done, so each kill costs only the run from that stage on.
@@ -86,13 +98,7 @@ for stage in "${stages[@]}"; do
     if ((k % 2)); then to_do_from "$stage" fresh; else to_do_from "$stage" again; fi
     at_ms=$((RANDOM % took))
     run_and_kill "$stage" "$at_ms"
-    mk "${run[@]}" > "$tmp/after.log" 2>&1 ||
-      { tail -5 "$tmp/after.log"; fail "the run after a kill in $stage failed"; }
-    if [ "$(outputs)" != "$reference" ]; then
-      diff <(echo "$reference") <(outputs) | head -5 || true
-      fail "killed ${at_ms} ms into $stage (of $took ms): outputs differ from the uninterrupted run"
-    fi
-    echo "killed ${at_ms} ms into $stage (of $took ms): outputs identical after the rerun"
+    rerun_and_compare "killed ${at_ms} ms into $stage (of $took ms)"
   done
 done
 # The one moment random kills seldom hit: after the report's swap (report.html
@@ -103,10 +109,5 @@ for s in "${stages[@]}"; do [[ "$s" != *": dataset-report" ]] || report_stage="$
 to_do_from "$report_stage" again
 mkdir -p "$tmp/work/report/.staging-999999999-1"
 cp "$tmp/work/report/report.md" "$tmp/work/report/.staging-999999999-1/"
-mk "${run[@]}" > "$tmp/after.log" 2>&1 || { tail -5 "$tmp/after.log"; fail "the run after a kill at the swap failed"; }
-if [ "$(outputs)" != "$reference" ]; then
-  diff <(echo "$reference") <(outputs) | head -5 || true
-  fail "killed between the report's swap and its clean-up: outputs differ from the uninterrupted run"
-fi
-echo "killed between the report's swap and its clean-up: outputs identical after the rerun"
+rerun_and_compare "killed between the report's swap and its clean-up"
 echo "PASS"
