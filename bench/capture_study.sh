@@ -22,6 +22,10 @@
 # exposure+poses+tracks. Any variant followed by +protect-<share> (or
 # protect-<share> alone, for plain) also protects the sigma* of Gaussians whose
 # votes agree at least that much (op2gs-learn --protect-agreement).
+# At the end, op2gs-report writes <out>/report/ (report.html, report.md) with
+# one section per (condition, seed, variant) measured so far in <out>: test
+# PSNR and the colour-fitted PSNR, baseline and dual-opacity scores per
+# object, and the floater tables.
 # Environment: SCALE (schedule divisor), SYNTH (extra op2gs-synth options for
 # every condition, e.g. "--width 640 --height 480 --views 60"), FIT_STEPS
 # (steps of each test view's pose fit, default 100).
@@ -155,3 +159,18 @@ print(f\"   {l['condition']} {l['seed']} {l['variant']}: dual {l['dual-opacity']
     done
   done
 done
+
+# The study's section of the report: every run in <out>, condition by seed by variant.
+report_scenes=()
+for metrics in "$out"/*/*/metrics.json; do
+  [ -f "$metrics" ] || continue
+  work="$(dirname "$metrics")"
+  dir="$(dirname "$work")"
+  [[ "$(basename "$work")" == stage-one* ]] && continue  # training metrics, not scores
+  report_scenes+=(--scene "$(basename "$dir") $(basename "$work")" "$dir/scene" "$work")
+done
+if [ ${#report_scenes[@]} -gt 0 ]; then
+  "$bin/op2gs-report" "${report_scenes[@]}" --metrics metrics.json --no-viewer --out "$out/report" \
+    --title "op2gs: real-capture study (oracle mode, LERF-Mask protocol)" > /dev/null
+  echo "report: $out/report/report.html"
+fi

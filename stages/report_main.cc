@@ -1,6 +1,8 @@
 // op2gs-report: an HTML report (self-contained) and a Markdown summary of one
 // scene or a dataset run, from the scenes' op2gs-eval metrics.
 
+#include <array>
+
 #include "eval/report/report.h"
 #include "eval/report/viewer.h"
 #include "stages/common.h"
@@ -10,13 +12,14 @@ namespace fs = std::filesystem;
 int main(int argc, char** argv) {
   CLI::App app{"Write the HTML and Markdown report of evaluated scenes."};
   eval::ReportOptions o;
-  std::vector<std::string> scenes;
+  // One NAME SCENE_DIR WORK_DIR triple per --scene; an array type makes CLI11
+  // take each occurrence as three values and accept the option repeated.
+  std::vector<std::array<std::string, 3>> scenes;
   std::string out, metrics = "eval/metrics.json";
   bool no_figures = false, no_viewer = false;
   app.add_option("--scene", scenes,
                  "NAME SCENE_DIR WORK_DIR (repeatable): reads WORK_DIR/eval/metrics.json, "
                  "render/, query/query.json, the training curves")
-      ->expected(3)
       ->required();
   app.add_option("--out", out, "output folder (report.html, report.md)")->required();
   app.add_option("--title", o.title, "report title")->capture_default_str();
@@ -32,11 +35,11 @@ int main(int argc, char** argv) {
   return stages::run_stage(app, argc, argv, [&] {
     o.figures = !no_figures;
     o.viewer = !no_viewer;
-    for (size_t i = 0; i + 2 < scenes.size(); i += 3) {
-      const splat::WorkLayout work{scenes[i + 2]};
+    for (const auto& [name, scene, work_dir] : scenes) {
+      const splat::WorkLayout work{work_dir};
       eval::SceneReportInput s;
-      s.name = scenes[i];
-      s.scene = scenes[i + 1];
+      s.name = name;
+      s.scene = scene;
       s.metrics = work.root / metrics;
       s.render = work.render();
       s.curves = {work.stage_one().curve(), work.stage_two().curve()};

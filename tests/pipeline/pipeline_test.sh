@@ -36,6 +36,11 @@ ls "$w/render/photo/masks/"*/*.png >/dev/null 2>&1 || fail "no masks in the phot
   fail "metrics.json does not parse"
 grep -q "dual-opacity (query) mIoU" "$tmp/check/report.md" || fail "no query-mode row in the report"
 grep -q "| n/a | n/a |" "$tmp/check/report.md" || fail "the report's query columns are not marked n/a"
+# A dataset report takes --scene once per scene (LERF-Mask's three, 3DOVS's ten).
+"$bin/op2gs-report" --scene demo "$w/sfm/scene" "$w" --scene again "$w/sfm/scene" "$w" \
+  --out "$tmp/check2" --no-figures --no-viewer >/dev/null 2>&1 || fail "op2gs-report refuses two scenes"
+grep -q "^| demo |" "$tmp/check2/report.md" && grep -q "^| again |" "$tmp/check2/report.md" ||
+  fail "the two-scene report lacks a scene's row"
 
 echo "-- a second make does nothing"
 mk "${tiny[@]}" -q || fail "make -q says something is stale"
