@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <memory>
 #include <utility>
 
 namespace splat {
@@ -39,20 +41,52 @@ void for_each_band(int H, const Body& body) {
   });
 }
 
+// A band's scratch rows, left uninitialised: every element is written
+// before it is read (clearing them was a few per cent of the loss).
+std::unique_ptr<float[]> scratch(size_t n) { return std::make_unique_for_overwrite<float[]>(n); }
+
+// kLanes floats as one vector (GCC's vector extension: one AVX-512 register,
+// or two AVX ones); unaligned loads through memcpy.
+using Lanes = float __attribute__((vector_size(kLanes * sizeof(float))));
+inline Lanes load_lanes(const float* p) {
+  Lanes v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// out[i] = sum over taps t of weight[t] * rows[t][i] for i in [0, n), the
+// taps of each pixel added in order. Chunks of kLanes pixels keep their sums
+// in registers and are stored once (adding tap by tap into the output row
+// cost a load and a store per tap and pixel, which bound the blurs), four
+// chunks at a time so that their chains of multiply-adds overlap.
+void weighted_rows(const float* const* rows, const float* weight, int taps, int n, float* out) {
+  constexpr int kChunks = 4;
+  int i = 0;
+  for (; i + kChunks * kLanes <= n; i += kChunks * kLanes) {
+    Lanes acc[kChunks] = {};
+    for (int t = 0; t < taps; ++t)
+      for (int c = 0; c < kChunks; ++c) acc[c] += weight[t] * load_lanes(rows[t] + i + c * kLanes);
+    std::memcpy(out + i, acc, sizeof acc);
+  }
+  for (; i + kLanes <= n; i += kLanes) {
+    Lanes acc = {};
+    for (int t = 0; t < taps; ++t) acc += weight[t] * load_lanes(rows[t] + i);
+    std::memcpy(out + i, &acc, sizeof acc);
+  }
+  for (; i < n; ++i) {
+    float acc = 0;
+    for (int t = 0; t < taps; ++t) acc += weight[t] * rows[t][i];
+    out[i] = acc;
+  }
+}
+
 // One row of the horizontal pass (zero padding): out[x] = sum_k w[k] in[x+k].
-// Taps are added in the same order at every pixel; the interior runs as
-// whole-row multiply-adds, which vectorise.
+// Taps are added in the same order at every pixel, borders included.
 void blur_row(const Window& w, const float* in, float* out, int W) {
   const int lo = std::min(kRadius, W), hi = std::max(lo, W - kRadius);
-  // The interior as whole-row multiply-adds, one tap at a time (the row
-  // stays in the L1 cache; this form vectorises cleanly, while summing the
-  // taps per pixel made GCC shuffle lanes); each pixel adds its taps in the
-  // same order as the borders below.
-  for (int x = lo; x < hi; ++x) out[x] = 0;
-  for (int k = 0; k <= 2 * kRadius; ++k) {
-    const float wk = w[k];
-    for (int x = lo; x < hi; ++x) out[x] += wk * in[x + k - kRadius];
-  }
+  std::array<const float*, 2 * kRadius + 1> taps;
+  for (int k = 0; k <= 2 * kRadius; ++k) taps[k] = in + lo + k - kRadius;
+  weighted_rows(taps.data(), w.data(), 2 * kRadius + 1, hi - lo, out + lo);
   const auto border = [&](int b) {
     float s = 0;
     for (int k = -kRadius; k <= kRadius; ++k)
@@ -63,70 +97,93 @@ void blur_row(const Window& w, const float* in, float* out, int W) {
   for (int b = hi; b < W; ++b) border(b);
 }
 
-// One row of the vertical pass over a horizontally blurred plane.
-void blur_column_row(const Window& w, const std::vector<float>& in, int y, float* out, int W,
-                     int H) {
-  for (int x = 0; x < W; ++x) out[x] = 0;
-  for (int k = -kRadius; k <= kRadius; ++k) {
-    const int yy = y + k;
-    if (yy < 0 || yy >= H) continue;
-    const float wk = w[k + kRadius];
-    const float* src = &in[size_t(yy) * W];
-    for (int x = 0; x < W; ++x) out[x] += wk * src[x];
+// Rows [y0, y1) (at most kBandRows) of the vertical pass over a
+// horizontally blurred plane, output row r to out(r); rows off the image are
+// left out (zero padding).
+template <typename OutRow>
+void blur_columns(const Window& w, const std::vector<float>& in, int y0, int y1, int W, int H,
+                  const OutRow& out) {
+  for (int y = y0; y < y1; ++y) {
+    std::array<const float*, 2 * kRadius + 1> rows;
+    std::array<float, 2 * kRadius + 1> weights;
+    int taps = 0;
+    for (int k = -kRadius; k <= kRadius; ++k) {
+      if (y + k < 0 || y + k >= H) continue;
+      rows[taps] = &in[size_t(y + k) * W];
+      weights[taps++] = w[k + kRadius];
+    }
+    weighted_rows(rows.data(), weights.data(), taps, W, out(y - y0));
   }
 }
 
-// The horizontal pass of x, y, x^2, y^2 and xy of one channel.
-void blur_statistics_horizontally(const Window& w, ImageLossBuffers& b, int W, int H) {
+// The horizontal pass of x, y, x^2, y^2 and xy of channel c.
+void blur_statistics_horizontally(const Window& w, ImageLossBuffers& b, int W, int H, int c) {
   for_each_band(H, [&](int, int y0, int y1) {
-    std::vector<float> row(W);
+    const auto row = scratch(W);
     for (int y = y0; y < y1; ++y) {
       const size_t o = size_t(y) * W;
-      const float *x = &b.x[o], *t = &b.y[o];
+      const float *x = &b.x[c][o], *t = &b.y[c][o];
       blur_row(w, x, &b.blurred[0][o], W);
       blur_row(w, t, &b.blurred[1][o], W);
       for (int i = 0; i < W; ++i) row[i] = x[i] * x[i];
-      blur_row(w, row.data(), &b.blurred[2][o], W);
+      blur_row(w, row.get(), &b.blurred[2][o], W);
       for (int i = 0; i < W; ++i) row[i] = t[i] * t[i];
-      blur_row(w, row.data(), &b.blurred[3][o], W);
+      blur_row(w, row.get(), &b.blurred[3][o], W);
       for (int i = 0; i < W; ++i) row[i] = x[i] * t[i];
-      blur_row(w, row.data(), &b.blurred[4][o], W);
+      blur_row(w, row.get(), &b.blurred[4][o], W);
     }
   });
 }
 
+// SSIM of pixels with the given blurred statistics and, with kGradient, its
+// derivatives with respect to the render's statistics (mu_x, E[x^2], E[xy]),
+// the y statistics fixed. V is float or Lanes: the same formulas, one pixel
+// or kLanes at a time. In float, as the reference computes SSIM (float32
+// tensors).
+template <bool kGradient, typename V>
+struct SsimTerms {
+  V S, d_mu, d_exx, d_exy;
+  SsimTerms(V mux, V muy, V exx, V eyy, V exy) {
+    const V sxx = exx - mux * mux, syy = eyy - muy * muy, sxy = exy - mux * muy;
+    const V A1 = 2 * mux * muy + kC1, A2 = 2 * sxy + kC2;
+    const V B1 = mux * mux + muy * muy + kC1, B2 = sxx + syy + kC2;
+    const V inv_B = 1 / (B1 * B2);
+    S = A1 * A2 * inv_B;
+    if constexpr (kGradient) {
+      d_mu = (2 * muy * A2 - 2 * muy * A1) * inv_B - S * (2 * mux / B1 - 2 * mux / B2);
+      d_exx = -S / B2;
+      d_exy = 2 * A1 * inv_B;
+    }
+  }
+};
+
 // The SSIM map of one row from its five blurred statistics (rows of W in
-// `stats`) and, with kGradient, its derivatives with respect to the
-// render's statistics. Returns the row's sum. In float, as the reference
-// computes SSIM (float32 tensors); one partial sum per vector lane, since a
-// single running sum would chain every pixel to the one before and keep the
-// loop from vectorising.
+// `stats`) and, with kGradient, its derivatives (SsimTerms). Returns the
+// row's sum; one partial sum per vector lane, since a single running sum
+// would chain every pixel to the one before.
 template <bool kGradient>
 double ssim_row(const float* stats, int W, float* d_mu, float* d_exx, float* d_exy) {
   const float *mx = stats, *my = stats + W, *exx = stats + 2 * W, *eyy = stats + 3 * W,
               *exy = stats + 4 * W;
-  float lane_sums[kLanes] = {};
-  const auto pixel = [&](int i, int lane) {
-    const float mux = mx[i], muy = my[i];
-    const float sxx = exx[i] - mux * mux, syy = eyy[i] - muy * muy, sxy = exy[i] - mux * muy;
-    const float A1 = 2 * mux * muy + kC1, A2 = 2 * sxy + kC2;
-    const float B1 = mux * mux + muy * muy + kC1, B2 = sxx + syy + kC2;
-    const float inv_B = 1 / (B1 * B2);
-    const float S = A1 * A2 * inv_B;
-    lane_sums[lane] += S;
-    if constexpr (kGradient) {
-      // S as a function of (mu_x, E[x^2], E[xy]) with the y statistics fixed.
-      d_mu[i] = (2 * muy * A2 - 2 * muy * A1) * inv_B - S * (2 * mux / B1 - 2 * mux / B2);
-      d_exx[i] = -S / B2;
-      d_exy[i] = 2 * A1 * inv_B;
-    }
-  };
+  Lanes lane_sums = {};
   int i = 0;
-  for (; i + kLanes <= W; i += kLanes)
-    for (int l = 0; l < kLanes; ++l) pixel(i + l, l);
-  for (; i < W; ++i) pixel(i, 0);
+  for (; i + kLanes <= W; i += kLanes) {
+    const SsimTerms<kGradient, Lanes> t(load_lanes(mx + i), load_lanes(my + i), load_lanes(exx + i),
+                                        load_lanes(eyy + i), load_lanes(exy + i));
+    lane_sums += t.S;
+    if constexpr (kGradient) {
+      std::memcpy(d_mu + i, &t.d_mu, sizeof(Lanes));
+      std::memcpy(d_exx + i, &t.d_exx, sizeof(Lanes));
+      std::memcpy(d_exy + i, &t.d_exy, sizeof(Lanes));
+    }
+  }
+  for (; i < W; ++i) {
+    const SsimTerms<kGradient, float> t(mx[i], my[i], exx[i], eyy[i], exy[i]);
+    lane_sums[0] += t.S;
+    if constexpr (kGradient) d_mu[i] = t.d_mu, d_exx[i] = t.d_exx, d_exy[i] = t.d_exy;
+  }
   double sum = 0;
-  for (float lane : lane_sums) sum += lane;
+  for (int l = 0; l < kLanes; ++l) sum += lane_sums[l];
   return sum;
 }
 
@@ -134,14 +191,17 @@ double ssim_row(const float* stats, int W, float* d_mu, float* d_exx, float* d_e
 // (b.d_stats). Returns the map's sum.
 double ssim_from_statistics(const Window& w, ImageLossBuffers& b, int W, int H, bool gradient) {
   for_each_band(H, [&](int band, int y0, int y1) {
-    std::vector<float> stats(5 * size_t(W));
+    // [row][statistic][column]: ssim_row reads a row's five statistics.
+    const auto stats = scratch(size_t(kBandRows) * 5 * W);
+    for (int q = 0; q < 5; ++q)
+      blur_columns(w, b.blurred[q], y0, y1, W, H,
+                   [&](int r) { return &stats[(size_t(r) * 5 + q) * W]; });
     double sum = 0;
     for (int y = y0; y < y1; ++y) {
-      for (int q = 0; q < 5; ++q) blur_column_row(w, b.blurred[q], y, &stats[q * size_t(W)], W, H);
+      const float* row = &stats[size_t(y - y0) * 5 * W];
       const size_t o = size_t(y) * W;
-      sum += gradient ? ssim_row<true>(stats.data(), W, &b.d_stats[0][o], &b.d_stats[1][o],
-                                       &b.d_stats[2][o])
-                      : ssim_row<false>(stats.data(), W, nullptr, nullptr, nullptr);
+      sum += gradient ? ssim_row<true>(row, W, &b.d_stats[0][o], &b.d_stats[1][o], &b.d_stats[2][o])
+                      : ssim_row<false>(row, W, nullptr, nullptr, nullptr);
     }
     b.band_sums[band] = sum;
   });
@@ -150,10 +210,9 @@ double ssim_from_statistics(const Window& w, ImageLossBuffers& b, int W, int H, 
   return sum;
 }
 
-// Adds scale * d(SSIM map sum)/dx to channel c of grad: the window is
+// d(SSIM map sum)/dx of channel c, into b.d_ssim[c]: the window is
 // symmetric, so the adjoint of the blur is the blur itself.
-void add_ssim_gradient(const Window& w, ImageLossBuffers& b, int W, int H, int c, float scale,
-                       std::vector<float>& grad) {
+void ssim_gradient(const Window& w, ImageLossBuffers& b, int W, int H, int c) {
   for_each_band(H, [&](int, int y0, int y1) {
     for (int y = y0; y < y1; ++y)
       for (int q = 0; q < 3; ++q) {
@@ -162,14 +221,16 @@ void add_ssim_gradient(const Window& w, ImageLossBuffers& b, int W, int H, int c
       }
   });
   for_each_band(H, [&](int, int y0, int y1) {
-    std::vector<float> g(3 * size_t(W));
+    const auto rows = scratch(size_t(kBandRows) * 3 * W);  // [row][statistic][column]
+    for (int q = 0; q < 3; ++q)
+      blur_columns(w, b.blurred[q], y0, y1, W, H,
+                   [&](int r) { return &rows[(size_t(r) * 3 + q) * W]; });
     for (int y = y0; y < y1; ++y) {
-      for (int q = 0; q < 3; ++q) blur_column_row(w, b.blurred[q], y, &g[q * size_t(W)], W, H);
+      const float* g = &rows[size_t(y - y0) * 3 * W];
       const size_t o = size_t(y) * W;
-      for (int i = 0; i < W; ++i) {
-        const float d = g[i] + 2 * b.x[o + i] * g[W + i] + b.y[o + i] * g[2 * W + i];
-        grad[3 * (o + i) + c] += scale * d;
-      }
+      const float *x = &b.x[c][o], *t = &b.y[c][o];
+      float* d = &b.d_ssim[c][o];
+      for (int i = 0; i < W; ++i) d[i] = g[i] + 2 * x[i] * g[W + i] + t[i] * g[2 * W + i];
     }
   });
 }
@@ -210,12 +271,31 @@ std::pair<double, double> difference_sums(std::span<const float> rendered, const
   return {abs_sum, square_sum};
 }
 
+// The render and the photo split into channels, both read once.
+void split_channels(std::span<const float> rendered, const ImageRGB& target, ImageLossBuffers& b) {
+  const int W = target.width;
+  for_each_band(target.height, [&](int, int y0, int y1) {
+    for (size_t i = size_t(y0) * W; i < size_t(y1) * W; ++i)
+      for (int c = 0; c < 3; ++c)
+        b.x[c][i] = rendered[3 * i + c], b.y[c][i] = target.data[3 * i + c];
+  });
+}
+
+// grad += scale * d_ssim, the channels interleaved again in one pass.
+void add_ssim_gradient(const ImageLossBuffers& b, int W, int H, float scale,
+                       std::vector<float>& grad) {
+  for_each_band(H, [&](int, int y0, int y1) {
+    for (size_t i = size_t(y0) * W; i < size_t(y1) * W; ++i)
+      for (int c = 0; c < 3; ++c) grad[3 * i + c] += scale * b.d_ssim[c][i];
+  });
+}
+
 void prepare(ImageLossBuffers& b, int W, int H, bool gradient) {
   const size_t n = size_t(W) * H;
-  for (auto* v :
-       {&b.x, &b.y, &b.blurred[0], &b.blurred[1], &b.blurred[2], &b.blurred[3], &b.blurred[4]})
-    v->resize(n);
+  for (int c = 0; c < 3; ++c) b.x[c].resize(n), b.y[c].resize(n);
+  for (auto& v : b.blurred) v.resize(n);
   for (auto& d : b.d_stats) d.resize(gradient ? n : 0);
+  for (auto& d : b.d_ssim) d.resize(gradient ? n : 0);
   b.band_sums.resize(2 * bands_of(H));
 }
 
@@ -235,17 +315,15 @@ ImageLoss image_loss(std::span<const float> rendered, const ImageRGB& target,
       difference_sums(rendered, target, (1 - options.lambda_ssim) / float(n), grad, b);
   loss.l1 = abs_sum / n;
   loss.mse = square_sum / n;
+  split_channels(rendered, target, b);
   double ssim_sum = 0;
   for (int c = 0; c < 3; ++c) {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, size_t(W) * H), [&](const auto& r) {
-      for (size_t i = r.begin(); i < r.end(); ++i)
-        b.x[i] = rendered[3 * i + c], b.y[i] = target.data[3 * i + c];
-    });
-    blur_statistics_horizontally(w, b, W, H);
+    blur_statistics_horizontally(w, b, W, H, c);
     ssim_sum += ssim_from_statistics(w, b, W, H, grad != nullptr);
-    // loss term lambda * (1 - mean SSIM): d/dx = -lambda / n * d(sum)/dx.
-    if (grad) add_ssim_gradient(w, b, W, H, c, -options.lambda_ssim / float(n), *grad);
+    if (grad) ssim_gradient(w, b, W, H, c);
   }
+  // loss term lambda * (1 - mean SSIM): d/dx = -lambda / n * d(sum)/dx.
+  if (grad) add_ssim_gradient(b, W, H, -options.lambda_ssim / float(n), *grad);
   loss.ssim = ssim_sum / n;
   loss.total = (1 - options.lambda_ssim) * loss.l1 + options.lambda_ssim * (1 - loss.ssim);
   return loss;

@@ -27,9 +27,10 @@ struct ImageLoss {
 // they are tens of MB, and allocating them for every iteration cost as much
 // as the arithmetic (page faults, clearing).
 struct ImageLossBuffers {
-  std::vector<float> x, y;        // one channel of the render and the photo
-  std::vector<float> blurred[5];  // x, y, x^2, y^2, xy after the horizontal pass
+  std::vector<float> x[3], y[3];  // the render and the photo, channel by channel
+  std::vector<float> blurred[5];  // x, y, x^2, y^2, xy of one channel after the horizontal pass
   std::vector<float> d_stats[3];  // dS/d(mu_x), dS/d(E[x^2]), dS/d(E[xy]) per pixel
+  std::vector<float> d_ssim[3];  // d(SSIM map sum)/dx per channel, added to the gradient at the end
   std::vector<double> band_sums;  // per band of rows, summed in order
 };
 
