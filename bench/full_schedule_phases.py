@@ -12,13 +12,17 @@ import sys
 from collections import defaultdict
 
 PHASES = [
-    ("projection backward", r"project_gaussians_backward|project_backward|backward_one"),
+    ("projection backward", r"project_gaussians_backward|project_backward|backward_one|"
+                            r"backward_color|backward_geometry|backward_batch|zero_gradients"),
     ("projection + SH colour", r"project_gaussians|project_geometry|project_extents|sh_basis|"
                                r"sh_colou?r|fast_exp"),
     ("binning (tile lists, depth sort)", r"bin_gaussians|radix_sort|depth_key|tile_bins"),
-    ("rasterize forward", r"rasterize_forward|gather_with_blocks|TileGaussians|blend_block"),
-    ("rasterize backward", r"rasterize_backward|backward_tile|backward_band"),
-    ("loss (L1 + SSIM)", r"image_loss|ssim|blur|gaussian_window|psnr|rgb_channel"),
+    ("rasterize forward", r"rasterize_forward|gather_with_blocks|TileGaussians|blend_block|"
+                          r"pack_records"),
+    ("rasterize backward", r"rasterize_backward|backward_tile|backward_band|sum_band_entries|"
+                           r"number_band_entries"),
+    ("loss (L1 + SSIM)", r"image_loss|ssim|blur|gaussian_window|psnr|rgb_channel|weighted_rows|"
+                         r"split_channels|difference_sums"),
     ("Adam", r"GaussianAdam|adam_update"),
     ("densification", r"densify|DensificationStats|prune|reset_opacity|append_copy|max_scale"),
     ("object loss (stage two)", r"object_loss|sample_objects|instance_map"),
