@@ -97,9 +97,8 @@ void blur_row(const Window& w, const float* in, float* out, int W) {
   for (int b = hi; b < W; ++b) border(b);
 }
 
-// Rows [y0, y1) (at most kBandRows) of the vertical pass over a
-// horizontally blurred plane, output row r to out(r); rows off the image are
-// left out (zero padding).
+// Rows [y0, y1) of the vertical pass over a horizontally blurred plane,
+// output row y to out(y - y0); rows off the image are left out (zero padding).
 template <typename OutRow>
 void blur_columns(const Window& w, const std::vector<float>& in, int y0, int y1, int W, int H,
                   const OutRow& out) {
