@@ -422,7 +422,14 @@ std::vector<Table> floater_tables(const SceneReportInput& in) {
                             fmt::format("{:.2f} / {:.2f}", o["sigma_star"]["right"].get<double>(),
                                         o["sigma_star"]["wrong"].get<double>())});
   }
-  return {summary, objects};
+  Table views{"Per test view: the share of its rendered opacity that floaters carry",
+              {"view", "all floaters", "floaters in the object region"},
+              {}};
+  for (const json& v : f.value("per_view", json::array()))
+    views.rows.push_back({v.at("view").get<std::string>(), pct(v.at("floater_opacity_share")),
+                          pct(v.at("region_floater_opacity_share"))});
+  if (views.rows.empty()) return {summary, objects};
+  return {summary, objects, views};
 }
 
 // The colour-fitted test PSNR of stage two, when its metrics are given.

@@ -198,11 +198,11 @@ SurfaceMatch match_surfaces(const splat::GaussianModel& model, const synth::Scen
 
 namespace {
 
-// Sums over the views of the occupancy maps of labels 1 and 2 given to the
-// Gaussians by `group` (0: none), with instance opacity sigma or sigma*.
-std::pair<double, double> occupancy(const splat::GaussianModel& model,
-                                    const std::vector<int32_t>& group, bool use_sigma_star,
-                                    const std::vector<splat::Camera>& views) {
+// Sums of the occupancy maps of labels 1 and 2 given to the Gaussians by
+// `group` (0: none), with instance opacity sigma or sigma*: one pair per view.
+using Occupancy = std::vector<std::pair<double, double>>;
+Occupancy occupancy(const splat::GaussianModel& model, const std::vector<int32_t>& group,
+                    bool use_sigma_star, const std::vector<splat::Camera>& views) {
   splat::GaussianModel m = model;
   m.labels = group;
   m.has_labels = true;
@@ -213,20 +213,35 @@ std::pair<double, double> occupancy(const splat::GaussianModel& model,
   settings.sh_degree = 0;
   settings.instance_labels = {1, 2};
   const splat::CpuRenderer renderer;
-  double first = 0, second = 0;
+  Occupancy sums;
   for (const splat::Camera& camera : views) {
     const splat::RenderOutput out = renderer.render(m, camera, settings);
     const size_t plane = size_t(out.width) * out.height;
+    double first = 0, second = 0;
     for (size_t p = 0; p < plane; ++p) {
       first += out.instance_maps[p];
       second += out.instance_maps[plane + p];
     }
+    sums.push_back({first, second});
   }
-  return {first, second};
+  return sums;
 }
 
 double share(const std::pair<double, double>& s) {
   return s.first + s.second > 0 ? s.first / (s.first + s.second) : 0;
+}
+
+// The share of label 1 pooled over the views.
+double share(const Occupancy& views) {
+  std::pair<double, double> all{0, 0};
+  for (const auto& [first, second] : views) all.first += first, all.second += second;
+  return share(all);
+}
+
+std::vector<double> shares_per_view(const Occupancy& views) {
+  std::vector<double> shares;
+  for (const auto& view : views) shares.push_back(share(view));
+  return shares;
 }
 
 }  // namespace
@@ -284,8 +299,12 @@ FloaterReport measure_floaters(const splat::GaussianModel& model, const synth::S
     r.objects.push_back(c);
   }
   if (!views.empty()) {
-    r.floater_opacity_share = share(occupancy(model, floater_group, false, views));
-    r.region_floater_opacity_share = share(occupancy(model, region_floater_group, false, views));
+    const Occupancy floaters = occupancy(model, floater_group, false, views);
+    const Occupancy region_floaters = occupancy(model, region_floater_group, false, views);
+    r.floater_opacity_share = share(floaters);
+    r.region_floater_opacity_share = share(region_floaters);
+    r.view_floater_opacity_share = shares_per_view(floaters);
+    r.view_region_floater_opacity_share = shares_per_view(region_floaters);
     r.mask_floater_share_sigma = share(occupancy(model, floater_in_mask, false, views));
     r.mask_floater_share_sigma_star = share(occupancy(model, floater_in_mask, true, views));
     r.mask_wrong_share_sigma = share(occupancy(model, wrong_in_mask, false, views));

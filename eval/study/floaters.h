@@ -72,6 +72,9 @@ struct FloaterReport {
   double mask_floater_share_sigma_star = 0;
   double mask_wrong_share_sigma = 0;  // wrongly labelled (floaters included)
   double mask_wrong_share_sigma_star = 0;
+  // Per view, in the order given: the share of its rendered opacity that
+  // floaters carry, all of them and those in the object region.
+  std::vector<double> view_floater_opacity_share, view_region_floater_opacity_share;
   std::vector<ObjectContamination> objects;
 };
 

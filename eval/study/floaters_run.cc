@@ -4,6 +4,8 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "splat/atomic_file.h"
 #include "splat/checkpoint.h"
@@ -32,7 +34,8 @@ synth::SceneLayout read_surfaces(const fs::path& file) {
   }
 }
 
-json report_json(const FloaterReport& r, const synth::SceneLayout& layout, size_t views) {
+json report_json(const FloaterReport& r, const synth::SceneLayout& layout,
+                 const std::vector<std::string>& view_names) {
   std::map<int32_t, std::string> names;
   for (const synth::SceneObject& o : layout.objects) names[o.id] = o.name;
   json objects = json::array();
@@ -50,6 +53,11 @@ json report_json(const FloaterReport& r, const synth::SceneLayout& layout, size_
     if (names.count(c.id)) o["name"] = names[c.id];
     objects.push_back(o);
   }
+  json per_view = json::array();
+  for (size_t v = 0; v < r.view_floater_opacity_share.size(); ++v)
+    per_view.push_back({{"view", view_names.at(v)},
+                        {"floater_opacity_share", r.view_floater_opacity_share[v]},
+                        {"region_floater_opacity_share", r.view_region_floater_opacity_share[v]}});
   return {
       {"distance", r.distance},
       {"gaussians", r.gaussians},
@@ -60,8 +68,9 @@ json report_json(const FloaterReport& r, const synth::SceneLayout& layout, size_
        {{"gaussians", r.region_gaussians},
         {"floaters", r.region_floaters},
         {"floater_opacity_share", r.region_floater_opacity_share}}},
-      {"views", views},
+      {"views", view_names.size()},
       {"floater_opacity_share", r.floater_opacity_share},
+      {"per_view", per_view},
       {"mask_floater_share",
        {{"sigma", r.mask_floater_share_sigma}, {"sigma_star", r.mask_floater_share_sigma_star}}},
       {"mask_wrong_share",
@@ -79,13 +88,16 @@ FloaterReport run_floaters(const fs::path& scene_dir, const fs::path& out_file,
   if (!model.model.has_labels)
     throw splat::InputError(o.model, "the model has no labels (run op2gs-vote first)");
   std::vector<splat::Camera> views;
+  std::vector<std::string> view_names;
   if (o.render) {
     const auto scene = splat::Scene::load(scene_dir, o.scene);
-    for (size_t v : splat::split_views(*scene, o.split).test)
+    for (size_t v : splat::split_views(*scene, o.split).test) {
       views.push_back(scene->views()[v].camera);
+      view_names.push_back(scene->views()[v].name);
+    }
   }
   const FloaterReport r = measure_floaters(model.model, layout, views, o.floaters);
-  splat::write_text_atomically(out_file, report_json(r, layout, views.size()).dump(2) + "\n");
+  splat::write_text_atomically(out_file, report_json(r, layout, view_names).dump(2) + "\n");
   return r;
 }
 

@@ -70,6 +70,10 @@ TEST(Report, ShowsFloatersAndTheColourFittedPsnrWhenMeasured) {
       {"region", {{"gaussians", 600}, {"floaters", 40}, {"floater_opacity_share", 0.031}}},
       {"views", 5},
       {"floater_opacity_share", 0.083},
+      {"per_view",
+       {{{"view", "frame_00004.jpg"},
+         {"floater_opacity_share", 0.12},
+         {"region_floater_opacity_share", 0.045}}}},
       {"mask_floater_share", {{"sigma", 0.021}, {"sigma_star", 0.004}}},
       {"mask_wrong_share", {{"sigma", 0.061}, {"sigma_star", 0.017}}},
       {"objects",
@@ -97,6 +101,7 @@ TEST(Report, ShowsFloatersAndTheColourFittedPsnrWhenMeasured) {
             std::string::npos);
   EXPECT_NE(md.find("| red ball | 300 | 4 | 14 | 3 | 9 | 0.80 / 0.60 | 0.85 / 0.10 |"),
             std::string::npos);
+  EXPECT_NE(md.find("| frame_00004.jpg | 12.0% | 4.5% |"), std::string::npos) << md;
   EXPECT_NE(md.find("27.25 dB"), std::string::npos);
   EXPECT_NE(md.find("NeRF in the Wild"), std::string::npos);
 }

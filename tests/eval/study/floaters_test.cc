@@ -98,6 +98,11 @@ TEST(Floaters, SharesOfThePictureAndOfTheMasks) {
   const FloaterReport r = measure_floaters(m, layout(), {camera}, FloaterOptions{});
   EXPECT_EQ(r.floaters, 1u);
   EXPECT_GT(r.floater_opacity_share, 0.5);  // in front: it takes most of the light
+  // One view: its own share is the pooled one.
+  ASSERT_EQ(r.view_floater_opacity_share.size(), 1u);
+  EXPECT_DOUBLE_EQ(r.view_floater_opacity_share[0], r.floater_opacity_share);
+  ASSERT_EQ(r.view_region_floater_opacity_share.size(), 1u);
+  EXPECT_DOUBLE_EQ(r.view_region_floater_opacity_share[0], r.region_floater_opacity_share);
   EXPECT_GT(r.mask_floater_share_sigma, 0.5);
   EXPECT_LT(r.mask_floater_share_sigma_star, 0.3);  // sigma* hides it from the mask
   EXPECT_DOUBLE_EQ(r.mask_wrong_share_sigma, r.mask_floater_share_sigma);
