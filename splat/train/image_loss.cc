@@ -244,7 +244,7 @@ std::pair<double, double> difference_sums(std::span<const float> rendered, const
   const float* t = target.data.data();
   float* dx = grad ? grad->data() : nullptr;
   for_each_band(H, [&](int band, int y0, int y1) {
-    // Partial sums per lane, as in ssim_from_statistics; the sign as the
+    // Partial sums per lane, as in ssim_row; the sign as the
     // difference of two comparisons keeps the loop free of branches.
     double abs_sums[kLanes] = {}, square_sums[kLanes] = {};
     const auto element = [&](size_t i, int lane) {
