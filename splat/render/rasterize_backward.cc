@@ -31,6 +31,30 @@ enum EntryGrad {
 };
 static_assert(kEntryGrads == kRasterEntryGradients);
 
+// While a Gaussian's pixels are summed, the slots of the mean and conic hold
+// moments of g = dL/dpower over the offsets d = mean - pixel: sum g dx, sum g
+// dy, sum g dx^2, sum g dx dy, sum g dy^2. With power = -(A dx^2 + 2 B dx dy +
+// C dy^2) / 2, the gradients follow from them (to_mean_conic_gradients), five
+// multiply-adds a pixel fewer than forming each pixel's gradient.
+enum PowerMoment {
+  kSumX = kMeanX,
+  kSumY = kMeanY,
+  kSumXX = kConicA,
+  kSumXY = kConicB,
+  kSumYY = kConicC
+};
+
+// Turns the summed moments of one entry into its mean and conic gradients.
+inline void to_mean_conic_gradients(const SplatRecord& g, float* entry) {
+  const float sx = entry[kSumX], sy = entry[kSumY];
+  const float sxx = entry[kSumXX], sxy = entry[kSumXY], syy = entry[kSumYY];
+  entry[kMeanX] = -(g.A * sx + g.B * sy);
+  entry[kMeanY] = -(g.C * sy + g.B * sx);
+  entry[kConicA] = -0.5f * sxx;
+  entry[kConicB] = -sxy;
+  entry[kConicC] = -0.5f * syy;
+}
+
 // Per-pixel state of one tile, going back to front: [block][lane].
 struct TileBackState {
   alignas(64) float T[kBlocks][kLanes];  // transmittance after the current Gaussian
@@ -39,9 +63,12 @@ struct TileBackState {
   alignas(64) float g_color[3][kBlocks][kLanes];  // dL/d(output colour)
   alignas(64) float g_alpha[kBlocks][kLanes];
   alignas(64) float g_depth[kBlocks][kLanes];
-  alignas(64) float behind[3][kBlocks][kLanes];  // sum of w_k c_k over Gaussians behind
+  // What lies behind the current Gaussian, weighted by the colour gradient:
+  // sum over channels of dL/dC_ch (sum of w_k c_k,ch over the Gaussians
+  // behind + T_final background_ch). Only this sum enters dL/dalpha, so one
+  // plane instead of three of colour and three of background.
+  alignas(64) float behind_color[kBlocks][kLanes];
   alignas(64) float behind_depth[kBlocks][kLanes];
-  alignas(64) float bg_dot[3][kBlocks][kLanes];   // T_final * background
   int32_t block_last[kBlocks];                    // largest `last` of each block
   std::vector<float> g_planes;                    // dL/dS: [plane][block][lane]
   alignas(64) float zeros[kBlocks][kLanes] = {};  // dL/dS of labels without a map
@@ -87,13 +114,12 @@ inline void back_block(const TileGaussians& tg, size_t k, float px0, float py0, 
       s.behind_depth[block][l] += w * z;
     }
     if constexpr (kColor) {
-      for (int ch = 0; ch < 3; ++ch) {
-        g_alpha +=
-            s.g_color[ch][block][l] *
-            (c[ch] * T_i - (s.behind[ch][block][l] + s.bg_dot[ch][block][l]) * inv_one_minus);
-        acc[kRed + ch][l] += s.g_color[ch][block][l] * w;
-        s.behind[ch][block][l] += w * c[ch];
-      }
+      // dL/dalpha from colour: sum over ch of g_ch (c_ch T_i - behind_ch / (1 - alpha)).
+      const float g_c = s.g_color[0][block][l] * c[0] + s.g_color[1][block][l] * c[1] +
+                        s.g_color[2][block][l] * c[2];
+      g_alpha += g_c * T_i - s.behind_color[block][l] * inv_one_minus;
+      for (int ch = 0; ch < 3; ++ch) acc[kRed + ch][l] += s.g_color[ch][block][l] * w;
+      s.behind_color[block][l] += w * g_c;
     }
     // The alpha clamp at 0.99 has zero derivative, in both branches.
     g_alpha *= m_valid * (raw_alpha < kMaxAlpha ? 1.f : 0.f);
@@ -106,12 +132,15 @@ inline void back_block(const TileGaussians& tg, size_t k, float px0, float py0, 
       acc[kInstanceOpacity][l] += g_star * G;
       g_G += g_star * op_star_geometry;
     }
+    // The moments of dL/dpower over the offsets (see PowerMoment); A, B and C
+    // are the same for every pixel, so they are applied once per entry.
     const float g_power = g_G * G;
-    acc[kMeanX][l] -= g_power * (A * dx + B * dy);
-    acc[kMeanY][l] -= g_power * (C * dy + B * dx);
-    acc[kConicA][l] -= 0.5f * g_power * dx * dx;
-    acc[kConicB][l] -= g_power * dx * dy;
-    acc[kConicC][l] -= 0.5f * g_power * dy * dy;
+    const float g_dx = g_power * dx, g_dy = g_power * dy;
+    acc[kSumX][l] += g_dx;
+    acc[kSumY][l] += g_dy;
+    acc[kSumXX][l] += g_dx * dx;
+    acc[kSumXY][l] += g_dx * dy;
+    acc[kSumYY][l] += g_dy * dy;
     T[l] = T_i;
   }
 }
@@ -150,6 +179,7 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0
       for (int l = 0; l < kLanes; ++l) sum += acc[j][l];
       entry[j] = sum;
     }
+    to_mean_conic_gradients(tg[size_t(k)], entry);
   }
 }
 
@@ -181,10 +211,10 @@ void load_tile_state(const RenderSettings& settings, const RasterState& st,
       s.g_alpha[b][l] = in && !grads.alpha.empty() ? grads.alpha[pix] : 0.f;
       s.g_depth[b][l] = in && !grads.depth.empty() ? grads.depth[pix] : 0.f;
       s.behind_depth[b][l] = 0.f;
+      s.behind_color[b][l] = 0.f;
       for (int c = 0; c < 3; ++c) {
         s.g_color[c][b][l] = in && color ? grads.color[3 * pix + c] : 0.f;
-        s.behind[c][b][l] = 0.f;
-        s.bg_dot[c][b][l] = s.T_final[b][l] * settings.background[c];
+        s.behind_color[b][l] += s.g_color[c][b][l] * s.T_final[b][l] * settings.background[c];
       }
       for (size_t m = 0; m < planes; ++m)
         s.g_planes[(m * kBlocks + b) * kLanes + l] =
