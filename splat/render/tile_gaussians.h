@@ -63,6 +63,23 @@ struct TileGaussians {
     block_capacity = slot_end - slot_begin;
     if (block_entries.size() < kBlocksPerTile * block_capacity)
       block_entries.resize(kBlocksPerTile * block_capacity);
+#if defined(__AVX512F__)
+    // The blocks as lanes: one scatter appends k to the lists of the blocks in
+    // its mask. A loop over the mask's bits ends after a varying number of
+    // blocks, which the branch predictor misses about once a record.
+    const __m512i first =
+        _mm512_mullo_epi32(_mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
+                           _mm512_set1_epi32(int32_t(block_capacity)));
+    __m512i count = _mm512_setzero_si512();
+    copy_records(s, slot_begin, slot_end, [&](size_t k, const SplatRecord& record) {
+      const uint16_t mask = blocks_reached(record, float(tile_x0), float(tile_y0));
+      masks[k] = mask;
+      _mm512_mask_i32scatter_epi32(block_entries.data(), mask, _mm512_add_epi32(first, count),
+                                   _mm512_set1_epi32(int32_t(k)), 4);
+      count = _mm512_mask_add_epi32(count, mask, count, _mm512_set1_epi32(1));
+    });
+    _mm512_storeu_si512(block_count.data(), count);
+#else
     block_count.fill(0);
     copy_records(s, slot_begin, slot_end, [&](size_t k, const SplatRecord& record) {
       const uint16_t mask = blocks_reached(record, float(tile_x0), float(tile_y0));
@@ -72,6 +89,7 @@ struct TileGaussians {
         block_entries[b * block_capacity + block_count[b]++] = uint32_t(k);
       }
     });
+#endif
     block_mask = masks;
   }
 
