@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
 
 #include "splat/render/fast_exp.h"
 #include "splat/render/pixel_block.h"
@@ -69,7 +72,7 @@ struct TileBackState {
   // plane instead of three of colour and three of background.
   alignas(64) float behind_color[kBlocks][kLanes];
   alignas(64) float behind_depth[kBlocks][kLanes];
-  int32_t block_last[kBlocks];                    // largest `last` of each block
+  alignas(64) int32_t block_last[kBlocks];        // largest `last` of each block
   std::vector<float> g_planes;                    // dL/dS: [plane][block][lane]
   alignas(64) float zeros[kBlocks][kLanes] = {};  // dL/dS of labels without a map
   int32_t first_geometry_plane = 0;               // planes below it reach sigma* only
@@ -145,6 +148,19 @@ inline void back_block(const TileGaussians& tg, size_t k, float px0, float py0, 
   }
 }
 
+// Bit b: block b has a pixel whose last contributor is behind entry k, so
+// that k may have blended there. One mask, not a branch per block: the
+// branch predictor misses such tests often.
+inline unsigned blocks_blended_past(const TileBackState& s, int32_t k) {
+#if defined(__AVX512F__)
+  return _mm512_cmpgt_epi32_mask(_mm512_load_si512(s.block_last), _mm512_set1_epi32(k));
+#else
+  unsigned mask = 0;
+  for (int b = 0; b < kBlocks; ++b) mask |= s.block_last[b] > k ? 1u << b : 0u;
+  return mask;
+#endif
+}
+
 // All blocks of one tile, Gaussians back to front; each Gaussian's gradient
 // is summed over the blocks it reaches, then over lanes, once.
 template <bool kColor, bool kInstance, bool kAlphaDepth>
@@ -165,9 +181,9 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0
     }
     alignas(64) float acc[kEntryGrads][kLanes] = {};
     // The blocks it reaches, among those with a pixel blended up to or past it.
-    for (unsigned blocks = tg.block_mask[size_t(k)]; blocks; blocks &= blocks - 1) {
+    for (unsigned blocks = tg.block_mask[size_t(k)] & blocks_blended_past(s, k); blocks;
+         blocks &= blocks - 1) {
       const int b = __builtin_ctz(blocks);
-      if (k >= s.block_last[b]) continue;
       const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
       back_block<kColor, kInstance, kAlphaDepth>(tg, size_t(k), block.cx0(), block.cy0(), b,
                                                  kInstance ? g_planes + b * kLanes : nullptr,
