@@ -37,8 +37,8 @@ static_assert(kEntryGrads == kRasterEntryGradients);
 // While a Gaussian's pixels are summed, the slots of the mean and conic hold
 // moments of g = dL/dpower over the offsets d = mean - pixel: sum g dx, sum g
 // dy, sum g dx^2, sum g dx dy, sum g dy^2. With power = -(A dx^2 + 2 B dx dy +
-// C dy^2) / 2, the gradients follow from them (to_mean_conic_gradients), five
-// multiply-adds a pixel fewer than forming each pixel's gradient.
+// C dy^2) / 2, the gradients follow from them (to_mean_conic_gradients):
+// seven operations a pixel instead of the fourteen of each pixel's gradient.
 enum PowerMoment {
   kSumX = kMeanX,
   kSumY = kMeanY,
@@ -148,8 +148,8 @@ inline void back_block(const TileGaussians& tg, size_t k, float px0, float py0, 
   }
 }
 
-// Bit b: block b has a pixel whose last contributor is behind entry k, so
-// that k may have blended there. One mask, not a branch per block: the
+// Bit b: block b has a pixel whose last contributor is entry k or one behind
+// it, so that k may have blended there. One mask, not a branch per block: the
 // branch predictor misses such tests often.
 inline unsigned blocks_blended_past(const TileBackState& s, int32_t k) {
 #if defined(__AVX512F__)
