@@ -172,6 +172,16 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0
   for (size_t k = size_t(last); k < tg.size(); ++k)
     std::fill_n(&entry_grads[size_t(entries[k]) * kEntryGrads], kEntryGrads, 0.f);
   for (int32_t k = last - 1; k >= 0; --k) {
+    float* entry = &entry_grads[size_t(entries[k]) * kEntryGrads];
+    // The blocks it reaches, among those with a pixel blended up to or past
+    // it. About a fifth of a tile's entries reach none of its blocks' pixel
+    // centres (their bounding box only grazes the tile): zeros, without the
+    // lane sums.
+    const unsigned reached = tg.block_mask[size_t(k)] & blocks_blended_past(s, k);
+    if (reached == 0) {
+      std::fill_n(entry, kEntryGrads, 0.f);
+      continue;
+    }
     const float* g_planes = nullptr;
     float instance_geometry = 0.f;
     if constexpr (kInstance) {
@@ -180,16 +190,13 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0
       instance_geometry = tg[k].plane >= s.first_geometry_plane ? 1.f : 0.f;
     }
     alignas(64) float acc[kEntryGrads][kLanes] = {};
-    // The blocks it reaches, among those with a pixel blended up to or past it.
-    for (unsigned blocks = tg.block_mask[size_t(k)] & blocks_blended_past(s, k); blocks;
-         blocks &= blocks - 1) {
+    for (unsigned blocks = reached; blocks; blocks &= blocks - 1) {
       const int b = __builtin_ctz(blocks);
       const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
       back_block<kColor, kInstance, kAlphaDepth>(tg, size_t(k), block.cx0(), block.cy0(), b,
                                                  kInstance ? g_planes + b * kLanes : nullptr,
                                                  instance_geometry, s, acc);
     }
-    float* entry = &entry_grads[size_t(entries[k]) * kEntryGrads];
     for (int j = 0; j < kEntryGrads; ++j) {
       float sum = 0.f;
       for (int l = 0; l < kLanes; ++l) sum += acc[j][l];
