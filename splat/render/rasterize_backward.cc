@@ -161,6 +161,80 @@ inline unsigned blocks_blended_past(const TileBackState& s, int32_t k) {
 #endif
 }
 
+#if defined(__AVX512F__)
+// Shuffles written as their masked forms with every lane kept (the same
+// instructions): the unmasked intrinsics trip GCC 12's -Wmaybe-uninitialized.
+template <int kImm>
+inline __m512 shuffle_quarters(__m512 a, __m512 b) {
+  return _mm512_maskz_shuffle_f32x4(__mmask16(0xffff), a, b, kImm);
+}
+// Lanes 0 and 1 swapped, 2 and 3, and so on.
+inline __m512 swap_pairs(__m512 a) {
+  return _mm512_maskz_permute_ps(__mmask16(0xffff), a, _MM_SHUFFLE(2, 3, 0, 1));
+}
+
+// Lane j: the sum of acc[j] over its 16 lanes. The 11 rows are summed at once
+// by a tree of shuffles and adds: the lanes are added pairwise, not in lane
+// order, so float rounding differs from the portable loop, whose adds a
+// compiler must keep in order (a quarter of the tile loop's time went there).
+inline __m512 lane_sums(const float (&acc)[kEntryGrads][kLanes]) {
+  static_assert(kLanes == 16 && kEntryGrads <= 16);
+  // The tree sums slot s into output lane p[s]; p is its own inverse, so
+  // slot s takes row p[s] and lane j gets row j.
+  constexpr int p[16] = {0, 2, 1, 3, 8, 10, 9, 11, 4, 6, 5, 7, 12, 14, 13, 15};
+  __m512 v[16];
+  for (int slot = 0; slot < 16; ++slot)
+    v[slot] = p[slot] < kEntryGrads ? _mm512_load_ps(acc[p[slot]]) : _mm512_set1_ps(0.f);
+  // 16 -> 8 vectors: each 256-bit half holds 8 partial sums of one row.
+  for (int j = 0; j < 8; ++j)
+    v[j] = _mm512_add_ps(shuffle_quarters<_MM_SHUFFLE(1, 0, 1, 0)>(v[j], v[j + 8]),
+                         shuffle_quarters<_MM_SHUFFLE(3, 2, 3, 2)>(v[j], v[j + 8]));
+  // 8 -> 4: each 128-bit quarter holds 4 partial sums of one row.
+  for (int j = 0; j < 4; ++j)
+    v[j] = _mm512_add_ps(shuffle_quarters<_MM_SHUFFLE(2, 0, 2, 0)>(v[j], v[j + 4]),
+                         shuffle_quarters<_MM_SHUFFLE(3, 1, 3, 1)>(v[j], v[j + 4]));
+  // 4 -> 2: 2 partial sums of a row, within each quarter.
+  for (int j = 0; j < 2; ++j)
+    v[j] = _mm512_add_ps(_mm512_shuffle_ps(v[j], v[j + 2], _MM_SHUFFLE(1, 0, 1, 0)),
+                         _mm512_shuffle_ps(v[j], v[j + 2], _MM_SHUFFLE(3, 2, 3, 2)));
+  // 2 -> 1.
+  return _mm512_add_ps(_mm512_shuffle_ps(v[0], v[1], _MM_SHUFFLE(2, 0, 2, 0)),
+                       _mm512_shuffle_ps(v[0], v[1], _MM_SHUFFLE(3, 1, 3, 1)));
+}
+
+// to_mean_conic_gradients on the vector of sums, which then goes to memory
+// in one store (reading it back from memory to finish it stalls: a masked
+// store does not forward to loads).
+inline void store_entry(__m512 sums, const SplatRecord& g, float* entry) {
+  // entry = -(scale * sums + cross * swapped), with the moments' two first
+  // lanes swapped: scale (A, C, 1/2, 1, 1/2, -1, ...), cross (B, B, 0, ...).
+  const __m512 swapped = swap_pairs(sums);
+  const __m512 scale = _mm512_mask_blend_ps(
+      __mmask16(0b11),
+      _mm512_set_ps(-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, 0.5f, 1, 0.5f, 0, 0),
+      _mm512_mask_blend_ps(__mmask16(0b10), _mm512_set1_ps(g.A), _mm512_set1_ps(g.C)));
+  const __m512 cross = _mm512_maskz_mov_ps(__mmask16(0b11), _mm512_set1_ps(g.B));
+  const __m512 out = _mm512_fnmsub_ps(scale, sums, _mm512_mul_ps(cross, swapped));
+  _mm512_mask_storeu_ps(entry, __mmask16((1u << kEntryGrads) - 1), out);
+}
+#endif
+
+// The entry's gradient: its lanes' sums, the moments turned into the mean
+// and conic gradients.
+inline void write_entry(const float (&acc)[kEntryGrads][kLanes], const SplatRecord& g,
+                        float* entry) {
+#if defined(__AVX512F__)
+  store_entry(lane_sums(acc), g, entry);
+#else
+  for (int j = 0; j < kEntryGrads; ++j) {
+    float sum = 0.f;
+    for (int l = 0; l < kLanes; ++l) sum += acc[j][l];
+    entry[j] = sum;
+  }
+  to_mean_conic_gradients(g, entry);
+#endif
+}
+
 // All blocks of one tile, Gaussians back to front; each Gaussian's gradient
 // is summed over the blocks it reaches, then over lanes, once.
 template <bool kColor, bool kInstance, bool kAlphaDepth>
@@ -197,12 +271,7 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0
                                                  kInstance ? g_planes + b * kLanes : nullptr,
                                                  instance_geometry, s, acc);
     }
-    for (int j = 0; j < kEntryGrads; ++j) {
-      float sum = 0.f;
-      for (int l = 0; l < kLanes; ++l) sum += acc[j][l];
-      entry[j] = sum;
-    }
-    to_mean_conic_gradients(tg[size_t(k)], entry);
+    write_entry(acc, tg[size_t(k)], entry);
   }
 }
 
