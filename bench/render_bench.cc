@@ -148,6 +148,26 @@ void BM_ForwardBackward(benchmark::State& state) {
   report(state, out, c);
 }
 
+// The same with the trainer's settings: colour alone, no depth output (the
+// renderer has a path of its own for it).
+void BM_TrainingForwardBackward(benchmark::State& state) {
+  const Case c = case_of(state);
+  const GaussianModel m = scene_of(c);
+  const Camera cam = bench_camera(c.width, c.height);
+  RenderSettings s;
+  s.depth = false;
+  RenderOutput out;
+  RenderOutputGradients g;
+  GaussianGradients grads;
+  std::unique_ptr<RenderState> rs;
+  for (auto _ : state) {
+    CpuRenderer().render(m, cam, s, out, &rs);
+    g.color.assign(out.color.size(), 1e-3f);
+    CpuRenderer().backward(m, cam, s, *rs, g, grads);
+  }
+  report(state, out, c);
+}
+
 // Pose refinement's cost (op2gs-train --refine-poses): the backward pass
 // with the camera-pose gradient against without, alternated in one loop so
 // that the machine's drift cancels.
@@ -223,6 +243,7 @@ BENCHMARK(BM_LabelMapsOnly)->Apply(sizes);
 BENCHMARK(BM_InstanceCostRatios)->Apply(sizes);
 BENCHMARK(BM_Backward)->Apply(sizes);
 BENCHMARK(BM_ForwardBackward)->Apply(sizes);
+BENCHMARK(BM_TrainingForwardBackward)->Apply(sizes);
 BENCHMARK(BM_CameraGradientRatio)->Apply(sizes);
 
 }  // namespace

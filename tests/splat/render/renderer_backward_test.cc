@@ -132,6 +132,25 @@ TEST_P(GradientsMatchFiniteDifferences, ColourAlphaAndDepthLoss) {
       {"instance_opacity"});
 }
 
+// Training's settings: colour alone, no depth output, a colour loss.
+TEST_P(GradientsMatchFiniteDifferences, TrainingColourLoss) {
+  const GaussianModel m = smooth_scene(GetParam());
+  const Camera cam = test_camera(40, 30);
+  RenderSettings s;
+  s.background[0] = 0.3f, s.background[2] = 0.7f;
+  s.depth = false;
+  RenderOutputGradients g;
+  g.color = random_weights(3 * size_t(cam.width) * cam.height, GetParam());
+  const CpuRenderer renderer;
+  std::unique_ptr<RenderState> state;
+  renderer.render(m, cam, s, &state);
+  const GaussianGradients analytic = renderer.backward(m, cam, s, *state, g);
+  check_gradients(
+      reference::Params::from(m), analytic,
+      [&](const reference::Params& p) { return dot(g.color, reference::render(p, cam, s).color); },
+      {"instance_opacity"});
+}
+
 TEST_P(GradientsMatchFiniteDifferences, ObjectLossWithTransmittanceHeld) {
   const GaussianModel m = smooth_scene(GetParam());
   const Camera cam = test_camera(40, 30);

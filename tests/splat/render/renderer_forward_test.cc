@@ -66,6 +66,22 @@ TEST_P(ForwardMatchesReference, OnRandomScenes) {
   }
 }
 
+// Training renders colour alone (no depth, maps or labels): a path of its own.
+TEST_P(ForwardMatchesReference, TrainingRenderOnRandomScenes) {
+  const GaussianModel m = random_scene(300, GetParam());
+  const Camera cam = test_camera(70, 45);
+  RenderSettings s;
+  s.background[0] = 0.2f, s.background[1] = 0.5f, s.background[2] = 0.9f;
+  s.depth = false;
+  const RenderOutput fast = CpuRenderer().render(m, cam, s);
+  const reference::Output ref = reference::render(reference::Params::from(m), cam, s);
+  expect_close(fast.color, ref.color, "color");
+  expect_close(fast.alpha, ref.alpha, "alpha");
+  EXPECT_TRUE(fast.depth.empty());
+  std::vector<int32_t> counts(fast.contributors.begin(), fast.contributors.end());
+  expect_same_labels(counts, ref.contributors, "contributors");
+}
+
 INSTANTIATE_TEST_SUITE_P(Seeds, ForwardMatchesReference, ::testing::Values(1u, 2u, 3u, 4u));
 
 TEST(Renderer, AllObjectMapsMatchReferenceAndSumToOccupancy) {
