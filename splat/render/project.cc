@@ -21,7 +21,7 @@ namespace {
 void evaluate_color(const GaussianModel& m, size_t i, const Vec3& dir, int degree, float rgb[3],
                     uint8_t clamped[3]) {
   float basis[kShCoeffs];
-  sh_basis(degree, dir.data(), basis);
+  sh_basis(degree, dir.x(), dir.y(), dir.z(), basis);
   const int n = (degree + 1) * (degree + 1);
   for (int c = 0; c < 3; ++c) {
     float v = basis[0] * m.sh_dc[3 * i + c];

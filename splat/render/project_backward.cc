@@ -129,7 +129,7 @@ Vec3 backward_color(const GaussianModel& m, const ProjectionView& v, const Rende
   const float dlen = d.norm();
   const Vec3 dir = d / dlen;
   float basis[kShCoeffs], dbasis[kShCoeffs][3];
-  sh_basis(s.sh_degree, dir.data(), basis, dbasis);
+  sh_basis(s.sh_degree, dir.x(), dir.y(), dir.z(), basis, dbasis);
   const int n = (s.sh_degree + 1) * (s.sh_degree + 1);
   float gc[3];
   for (int c = 0; c < 3; ++c) {

@@ -11,8 +11,7 @@ constexpr float C3[7] = {-0.5900435899266435f, 2.890611442640554f,   -0.45704579
                          -0.5900435899266435f};
 }  // namespace
 
-void sh_basis(int degree, const float dir[3], float b[kShCoeffs], float db[kShCoeffs][3]) {
-  const float x = dir[0], y = dir[1], z = dir[2];
+void sh_basis(int degree, float x, float y, float z, float b[kShCoeffs], float db[kShCoeffs][3]) {
   const int n = (degree + 1) * (degree + 1);
   for (int k = 0; k < kShCoeffs; ++k) {
     b[k] = 0;

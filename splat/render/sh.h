@@ -9,9 +9,11 @@ namespace splat {
 
 inline constexpr int kShCoeffs = 16;
 
-// Basis values for a unit direction (degree d uses the first (d+1)^2), and
-// optionally their derivatives d basis_k / d dir.
-void sh_basis(int degree, const float dir[3], float basis[kShCoeffs],
+// Basis values for a unit direction (x, y, z) (degree d uses the first
+// (d+1)^2), and optionally their derivatives d basis_k / d dir. The
+// direction comes in registers: callers have just computed it, and loading
+// it back from their stores stalled (the loads spanned two stores).
+void sh_basis(int degree, float x, float y, float z, float basis[kShCoeffs],
               float dbasis[kShCoeffs][3] = nullptr);
 
 }  // namespace splat
