@@ -20,15 +20,16 @@ namespace {
 
 void evaluate_color(const GaussianModel& m, size_t i, const Vec3& dir, int degree, float rgb[3],
                     uint8_t clamped[3]) {
-  float basis[kShCoeffs];
-  sh_basis(degree, dir.x(), dir.y(), dir.z(), basis);
-  const int n = (degree + 1) * (degree + 1);
+  const float* dc = &m.sh_dc[3 * i];
+  const float* rest = &m.sh_rest[kShRestFloats * i];
+  float v[3];
+  for_each_sh_basis(degree, dir.x(), dir.y(), dir.z(), [&](int k, float b, float, float, float) {
+    for (int c = 0; c < 3; ++c) v[c] = k == 0 ? b * dc[c] : v[c] + b * rest[3 * (k - 1) + c];
+  });
   for (int c = 0; c < 3; ++c) {
-    float v = basis[0] * m.sh_dc[3 * i + c];
-    for (int k = 1; k < n; ++k) v += basis[k] * m.sh_rest[kShRestFloats * i + 3 * (k - 1) + c];
-    v += 0.5f;
-    clamped[c] = v < 0;
-    rgb[c] = std::max(v, 0.f);
+    v[c] += 0.5f;
+    clamped[c] = v[c] < 0;
+    rgb[c] = std::max(v[c], 0.f);
   }
 }
 

@@ -128,27 +128,29 @@ Vec3 backward_color(const GaussianModel& m, const ProjectionView& v, const Rende
   const Vec3 d = mean - v.center;
   const float dlen = d.norm();
   const Vec3 dir = d / dlen;
-  float basis[kShCoeffs], dbasis[kShCoeffs][3];
-  sh_basis(s.sh_degree, dir.x(), dir.y(), dir.z(), basis, dbasis);
-  const int n = (s.sh_degree + 1) * (s.sh_degree + 1);
   float gc[3];
-  for (int c = 0; c < 3; ++c) {
-    gc[c] = p.color_clamped[3 * i + c] ? 0.f : pg.color[3 * i + c];
-    g.sh_dc[3 * i + c] = basis[0] * gc[c];
-  }
+  for (int c = 0; c < 3; ++c) gc[c] = p.color_clamped[3 * i + c] ? 0.f : pg.color[3 * i + c];
   // Coefficient by coefficient, in memory order; each one's colour weighted
   // by its gradient (summed over the channels) moves the view direction.
   float* g_rest = &g.sh_rest[kShRestFloats * i];
   const float* rest = &m.sh_rest[kShRestFloats * i];
   Vec3 g_dir = Vec3::Zero();
-  for (int k = 1; k < n; ++k) {
-    float weighted = 0.f;
-    for (int c = 0; c < 3; ++c) {
-      g_rest[3 * (k - 1) + c] = basis[k] * gc[c];
-      weighted += rest[3 * (k - 1) + c] * gc[c];
-    }
-    for (int a = 0; a < 3; ++a) g_dir[a] += dbasis[k][a] * weighted;
-  }
+  for_each_sh_basis(s.sh_degree, dir.x(), dir.y(), dir.z(),
+                    [&](int k, float b, float db_dx, float db_dy, float db_dz) {
+                      if (k == 0) {
+                        for (int c = 0; c < 3; ++c) g.sh_dc[3 * i + c] = b * gc[c];
+                        return;
+                      }
+                      float weighted = 0.f;
+                      for (int c = 0; c < 3; ++c) {
+                        g_rest[3 * (k - 1) + c] = b * gc[c];
+                        weighted += rest[3 * (k - 1) + c] * gc[c];
+                      }
+                      g_dir[0] += db_dx * weighted;
+                      g_dir[1] += db_dy * weighted;
+                      g_dir[2] += db_dz * weighted;
+                    });
+  const int n = (s.sh_degree + 1) * (s.sh_degree + 1);
   // The bands above the active degree get no gradient.
   std::fill(g_rest + 3 * (n - 1), g_rest + kShRestFloats, 0.f);
   return (g_dir - dir * dir.dot(g_dir)) / dlen;
