@@ -388,7 +388,11 @@ void backward_band(const RenderSettings& settings, RasterState& st,
       if (lo == hi) continue;  // no entries to write
       const int tx = int(t % st.bins.tiles_x), ty = int(t / st.bins.tiles_x);
       entries.resize(hi - lo);
+      // The Gaussians come in depth order, so their indices are read at
+      // random: prefetched ahead, as TileGaussians prefetches their records.
+      constexpr uint32_t kAhead = 16;
       for (uint32_t k = lo; k < hi; ++k) {
+        if (k + kAhead < hi) __builtin_prefetch(&st.band_index[st.bins.slot_gaussian[k + kAhead]]);
         const BandEntryIndex e = st.band_index[st.bins.slot_gaussian[k]];
         entries[k - lo] = uint32_t(e.base + ty * e.width + tx);
       }
