@@ -14,7 +14,8 @@ inline float fast_exp(float x) {
   // Round x / ln 2 to the nearest integer by adding and removing 1.5 * 2^23
   // (exact in float arithmetic, which the build never relaxes with
   // -ffast-math); unlike roundevenf, this vectorises.
-  const float n = (x * 1.44269504088896341f + 12582912.f) - 12582912.f;
+  const float shifted = x * 1.44269504088896341f + 12582912.f;  // 1.5 * 2^23 + n
+  const float n = shifted - 12582912.f;
   float r = x - n * 0.693145751953125f;   // ln 2, high part
   r = r - n * 1.428606765330187045e-06f;  // ln 2, low part
   float p = 1.0f / 720.0f;
@@ -24,7 +25,9 @@ inline float fast_exp(float x) {
   p = p * r + 0.5f;
   p = p * r + 1.0f;
   p = p * r + 1.0f;
-  const int32_t bits = (int32_t(n) + 127) << 23;  // 2^n
+  // 2^n, from shifted's bits (0x4B400000 + n): shifting them by 23 drops the
+  // 0x4B400000 and leaves n as the exponent, without converting n to an integer.
+  const uint32_t bits = (__builtin_bit_cast(uint32_t, shifted) << 23) + (127u << 23);
   return p * __builtin_bit_cast(float, bits);
 }
 
