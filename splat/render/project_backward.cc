@@ -400,7 +400,11 @@ void backward_batch(const GaussianModel& m, const ProjectionView& v, const Rende
                     size_t count, float half_w, float half_h, GaussianGradients& g) {
   bool any_visible = false;
   for (size_t i = first; i < first + count; ++i) {
-    if (!p.visible(i)) zero_gradients(g, i);  // visible ones have every field written below
+    // Visible ones have every field written below.
+    if (!p.visible(i) && s.zero_culled_gradients)
+      zero_gradients(g, i);
+    else if (!p.visible(i))
+      g.visible[i] = 0;
     any_visible |= p.visible(i);
   }
   if (!any_visible) return;

@@ -56,6 +56,12 @@ struct RenderSettings {
   // Backward: also the gradient w.r.t. the camera pose
   // (GaussianGradients::camera), for pose refinement.
   bool camera_gradient = false;
+  // Backward: false leaves the parameter gradients of the Gaussians out of
+  // view (GaussianGradients::visible == 0) unwritten instead of zeroing them,
+  // for a caller that reads `visible` first, such as the trainer's Adam step
+  // (GaussianAdam::step): about half the Gaussians of a training view, whose
+  // 60 zeros would only be written to be read back.
+  bool zero_culled_gradients = true;
 };
 
 // The images are ImageBuffers: cache-line aligned (whole-line streaming
@@ -103,7 +109,8 @@ struct GaussianGradients {
   std::array<double, 6> camera{};
 
   // Sizes every array for n Gaussians (values are left to the backward pass,
-  // which writes all of them).
+  // which writes all of them, or with RenderSettings::zero_culled_gradients
+  // false those of the visible Gaussians and `visible`).
   void resize(size_t n);
 };
 

@@ -39,15 +39,43 @@ struct AdamStep {
 
 // torch.optim.Adam's update of n values. Plain pointers that do not alias, so
 // that the compiler vectorises it (the file is built with -fno-math-errno,
-// which lets sqrt vectorise too).
+// which lets sqrt vectorise too). kZeroGradient: the same formulas with a
+// gradient of +0, not read (the same results as with zeros read).
+template <bool kZeroGradient = false>
 void adam_update(float* __restrict p, const float* __restrict grad, float* __restrict m,
                  float* __restrict v, size_t n, const AdamStep& a) {
   for (size_t i = 0; i < n; ++i) {
-    const float mi = a.b1 * m[i] + (1 - a.b1) * grad[i];
-    const float vi = a.b2 * v[i] + (1 - a.b2) * grad[i] * grad[i];
+    const float g = kZeroGradient ? 0.f : grad[i];
+    const float mi = a.b1 * m[i] + (1 - a.b1) * g;
+    const float vi = a.b2 * v[i] + (1 - a.b2) * g * g;
     m[i] = mi;
     v[i] = vi;
     p[i] -= a.step_size * mi / (std::sqrt(vi) * a.inv_bc2_sqrt + a.eps);
+  }
+}
+
+// Adam over Gaussians [begin, end) of a group whose Gaussians have `width`
+// values, of which the first `active` move: runs of Gaussians in view
+// read their gradients, runs out of view (visible[i] == 0; null: none)
+// step with zero gradients.
+void adam_over_gaussians(float* p, const float* grad, float* m, float* v, size_t width,
+                         size_t active, const uint8_t* visible, size_t begin, size_t end,
+                         const AdamStep& a) {
+  for (size_t i = begin; i < end;) {
+    const bool in_view = !visible || visible[i];
+    size_t run_end = visible ? i + 1 : end;
+    while (run_end < end && bool(visible[run_end]) == in_view) ++run_end;
+    const auto update = in_view ? adam_update<false> : adam_update<true>;
+    if (active == width) {
+      const size_t at = width * i;
+      update(&p[at], &grad[at], &m[at], &v[at], width * (run_end - i), a);
+    } else {
+      for (size_t k = i; k < run_end; ++k) {
+        const size_t at = width * k;
+        update(&p[at], &grad[at], &m[at], &v[at], active, a);
+      }
+    }
+    i = run_end;
   }
 }
 
@@ -60,14 +88,17 @@ GaussianAdam::GaussianAdam(size_t n, AdamOptions options) : options_(options) {
 
 void GaussianAdam::step(GaussianModel& model, const GaussianGradients& grads,
                         const std::array<float, kParamGroups>& lr,
-                        const std::array<bool, kParamGroups>& skip, int active_sh_degree) {
+                        const std::array<bool, kParamGroups>& skip, int active_sh_degree,
+                        bool read_culled_gradients) {
+  const uint8_t* visible = read_culled_gradients ? nullptr : grads.visible.data();
   for (int gi = 0; gi < kParamGroups; ++gi) {
     if (skip[gi] || lr[gi] <= 0) continue;
     const ParamGroup g = ParamGroup(gi);
     State& s = state_[gi];
     std::vector<float>& p = group_values(model, g);
     const std::vector<float>& grad = group_gradients(grads, g);
-    if (p.size() != s.m.size() || grad.size() != p.size())
+    if (p.size() != s.m.size() || grad.size() != p.size() ||
+        (visible && grads.visible.size() != size_))
       throw std::logic_error(std::string("Adam: size mismatch in group ") + group_name(g));
     ++s.step;
     const double bc1 = 1 - std::pow(double(options_.beta1), double(s.step));
@@ -80,18 +111,12 @@ void GaussianAdam::step(GaussianModel& model, const GaussianGradients& grads,
                               ? size_t(3 * ((active_sh_degree + 1) * (active_sh_degree + 1) - 1))
                               : width;
     const AdamStep a{b1, b2, step_size, inv_bc2_sqrt, eps};
-    if (active == width) {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, p.size(), 1 << 16), [&](const auto& r) {
-        adam_update(&p[r.begin()], &grad[r.begin()], &s.m[r.begin()], &s.v[r.begin()], r.size(), a);
-      });
-    } else {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, size_, 4096), [&](const auto& r) {
-        for (size_t i = r.begin(); i < r.end(); ++i) {
-          const size_t at = width * i;
-          adam_update(&p[at], &grad[at], &s.m[at], &s.v[at], active, a);
-        }
-      });
-    }
+    // About 64k values a task, whatever the group's width.
+    const size_t grain = std::max<size_t>(1, (size_t(1) << 16) / width);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, size_, grain), [&](const auto& r) {
+      adam_over_gaussians(p.data(), grad.data(), s.m.data(), s.v.data(), width, active, visible,
+                          r.begin(), r.end(), a);
+    });
   }
 }
 

@@ -33,9 +33,14 @@ class GaussianAdam {
   // skips parameters without a gradient).
   // With active_sh_degree < 3, the SH coefficients above it are left alone:
   // their gradients and moments are zero, so Adam would not move them anyway.
+  // With read_culled_gradients false, the Gaussians with grads.visible == 0
+  // step with a zero gradient without it being read (the renderer's
+  // RenderSettings::zero_culled_gradients false leaves it unwritten): the
+  // same step to the bit as with the zeros read.
   void step(GaussianModel& model, const GaussianGradients& grads,
             const std::array<float, kParamGroups>& learning_rates,
-            const std::array<bool, kParamGroups>& skip = {}, int active_sh_degree = kMaxShDegree);
+            const std::array<bool, kParamGroups>& skip = {}, int active_sh_degree = kMaxShDegree,
+            bool read_culled_gradients = true);
 
   // Densification: new Gaussians appended with zero moments; removal keeps
   // the Gaussians with keep[i] != 0 in order.

@@ -169,6 +169,9 @@ RenderSettings Trainer::render_settings() const {
   std::copy_n(options_.background, 3, s.background);
   s.sh_degree = sh_degree_;
   s.depth = false;  // no loss term reads it
+  // Adam reads grads_.visible and steps the culled Gaussians with zero
+  // gradients without reading them.
+  s.zero_culled_gradients = false;
   return s;
 }
 
@@ -256,7 +259,7 @@ void Trainer::train_until(int until,
           o.lr_scale,
           o.lr_rotation,
           model_.has_instance_opacity ? o.lr_instance_opacity : 0.f};
-      adam_.step(model_, grads_, lr, skip, sh_degree_);
+      adam_.step(model_, grads_, lr, skip, sh_degree_, /*read_culled_gradients=*/false);
       if (objects && protects())
         keep_in_mask(model_.instance_opacity_logits, model_.opacity_logits, protected_);
     }

@@ -361,6 +361,41 @@ TEST(RendererBackward, BatchedGeometryMatchesOneAtATime) {
 // The batches write every gradient of every Gaussian, culled or not, SH
 // bands above the active degree included (the trainer reuses its gradient
 // arrays from view to view): nothing of a NaN-filled output survives.
+// zero_culled_gradients false (the trainer's): the visible Gaussians'
+// gradients as before, the culled ones' left as they were and marked.
+TEST(RendererBackward, CulledGradientsLeftUnwrittenWhenAsked) {
+  const GaussianModel m = random_scene(60, 29);  // some behind the camera or off the image
+  const Camera cam = test_camera(32, 24);
+  const CpuRenderer renderer;
+  RenderSettings s;
+  s.depth = false;
+  RenderOutputGradients g;
+  g.color = random_weights(3 * size_t(cam.width) * cam.height, 5);
+  std::unique_ptr<RenderState> state;
+  renderer.render(m, cam, s, &state);
+  const GaussianGradients zeroed = renderer.backward(m, cam, s, *state, g);
+  s.zero_culled_gradients = false;
+  GaussianGradients out;
+  out.resize(m.size());
+  for (auto* a : gradient_arrays(out))
+    const_cast<std::vector<float>*>(a)->assign(a->size(), std::nanf(""));
+  renderer.backward(m, cam, s, *state, g, out);
+  EXPECT_EQ(out.visible, zeroed.visible);
+  size_t culled = 0;
+  const auto written = gradient_arrays(out), expected = gradient_arrays(zeroed);
+  for (size_t k = 0; k < written.size(); ++k) {
+    const size_t width = written[k]->size() / m.size();
+    for (size_t i = 0; i < written[k]->size(); ++i) {
+      if (zeroed.visible[i / width])
+        ASSERT_EQ((*written[k])[i], (*expected[k])[i]) << kArrayNames[k] << "[" << i << "]";
+      else
+        ASSERT_TRUE(std::isnan((*written[k])[i])) << kArrayNames[k] << "[" << i << "]";
+    }
+  }
+  for (uint8_t v : out.visible) culled += v == 0;
+  EXPECT_GT(culled, 0u) << "the scene must have culled Gaussians";
+}
+
 TEST(RendererBackward, BatchedBackwardWritesEveryGradient) {
   const GaussianModel m = random_scene(50, 28);
   const Camera cam = test_camera(32, 24);

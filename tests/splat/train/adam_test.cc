@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 namespace splat {
 namespace {
@@ -32,6 +33,46 @@ TEST(Adam, MatchesTorchAdamByHand) {
   EXPECT_EQ(m.means[1], 2.f) << "zero gradient, zero moments: no move";
   EXPECT_EQ(adam.steps(ParamGroup::kMeans), 5);
   EXPECT_EQ(adam.steps(ParamGroup::kOpacity), 0) << "groups without a learning rate do not step";
+}
+
+// The trainer's step: culled Gaussians' gradients are not read (the renderer
+// leaves them unwritten) and they step as with zero gradients, to the bit.
+TEST(Adam, CulledGaussiansStepAsWithZeroGradientsUnread) {
+  const size_t n = 37;
+  GaussianModel start;
+  start.resize(n);
+  std::vector<uint8_t> visible(n);
+  for (size_t i = 0; i < n; ++i) visible[i] = (i % 7 < 3 || i > 30) ? 1 : 0;  // runs of both
+  auto gradients = [&](int step, float culled) {
+    GaussianGradients g;
+    g.resize(n);
+    g.visible = visible;
+    int seed = 0;
+    for (std::vector<float>* values : {&g.means, &g.sh_dc, &g.sh_rest, &g.opacity_logits,
+                                       &g.log_scales, &g.rotations, &g.instance_opacity_logits}) {
+      const size_t width = values->size() / n;
+      for (size_t k = 0; k < values->size(); ++k)
+        (*values)[k] = visible[k / width] ? std::sin(float(k + 13 * step + seed)) : culled;
+      ++seed;
+    }
+    return g;
+  };
+  std::array<float, kParamGroups> lr;
+  lr.fill(0.01f);
+  for (int degree : {1, 3}) {
+    GaussianModel read = start, unread = start;
+    read.has_instance_opacity = unread.has_instance_opacity = true;
+    GaussianAdam adam_read(n), adam_unread(n);
+    for (int step = 1; step <= 4; ++step) {
+      adam_read.step(read, gradients(step, 0.f), lr, {}, degree);
+      adam_unread.step(unread, gradients(step, std::nanf("")), lr, {}, degree,
+                       /*read_culled_gradients=*/false);
+    }
+    for (int gi = 0; gi < kParamGroups; ++gi)
+      EXPECT_EQ(group_values(read, ParamGroup(gi)), group_values(unread, ParamGroup(gi)))
+          << group_name(ParamGroup(gi)) << ", degree " << degree;
+    EXPECT_EQ(adam_read, adam_unread);
+  }
 }
 
 TEST(Adam, SkippedGroupsKeepValuesAndStepCount) {
