@@ -130,12 +130,12 @@ void BM_Backward(benchmark::State& state) {
   state.counters["state bytes/pixel"] = 8;
 }
 
-// A training iteration's rendering work: forward with the state, then backward.
-void BM_ForwardBackward(benchmark::State& state) {
+// A training iteration's rendering work with settings s: forward with the
+// state, then backward.
+void forward_backward(benchmark::State& state, const RenderSettings& s) {
   const Case c = case_of(state);
   const GaussianModel m = scene_of(c);
   const Camera cam = bench_camera(c.width, c.height);
-  RenderSettings s;
   RenderOutput out;
   RenderOutputGradients g;
   GaussianGradients grads;
@@ -148,24 +148,14 @@ void BM_ForwardBackward(benchmark::State& state) {
   report(state, out, c);
 }
 
+void BM_ForwardBackward(benchmark::State& state) { forward_backward(state, RenderSettings{}); }
+
 // The same with the trainer's settings: colour alone, no depth output (the
 // renderer has a path of its own for it).
 void BM_TrainingForwardBackward(benchmark::State& state) {
-  const Case c = case_of(state);
-  const GaussianModel m = scene_of(c);
-  const Camera cam = bench_camera(c.width, c.height);
   RenderSettings s;
   s.depth = false;
-  RenderOutput out;
-  RenderOutputGradients g;
-  GaussianGradients grads;
-  std::unique_ptr<RenderState> rs;
-  for (auto _ : state) {
-    CpuRenderer().render(m, cam, s, out, &rs);
-    g.color.assign(out.color.size(), 1e-3f);
-    CpuRenderer().backward(m, cam, s, *rs, g, grads);
-  }
-  report(state, out, c);
+  forward_backward(state, s);
 }
 
 // Pose refinement's cost (op2gs-train --refine-poses): the backward pass

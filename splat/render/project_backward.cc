@@ -400,12 +400,13 @@ void backward_batch(const GaussianModel& m, const ProjectionView& v, const Rende
                     size_t count, float half_w, float half_h, GaussianGradients& g) {
   bool any_visible = false;
   for (size_t i = first; i < first + count; ++i) {
-    // Visible ones have every field written below.
-    if (!p.visible(i) && s.zero_culled_gradients)
+    if (p.visible(i)) {  // every field written below
+      any_visible = true;
+    } else if (s.zero_culled_gradients) {
       zero_gradients(g, i);
-    else if (!p.visible(i))
+    } else {
       g.visible[i] = 0;
-    any_visible |= p.visible(i);
+    }
   }
   if (!any_visible) return;
   GeometryGradientBatch geometry;
