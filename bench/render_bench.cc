@@ -23,6 +23,7 @@
 #include <random>
 
 #include "bench/bench_scenes.h"
+#include "splat/render/project.h"
 #include "splat/render/renderer.h"
 
 namespace {
@@ -187,6 +188,41 @@ void BM_CameraGradientRatio(benchmark::State& state) {
   report(state, out, c);
 }
 
+// The passes over every Gaussian alone, as training runs them (colour, no
+// depth, culled Gaussians' gradients left unwritten): the projection with
+// the SH colour, and its backward from fixed projected gradients.
+void BM_Project(benchmark::State& state) {
+  const Case c = case_of(state);
+  const GaussianModel m = scene_of(c);
+  const Camera cam = bench_camera(c.width, c.height);
+  RenderSettings s;
+  s.depth = false;
+  ProjectedGaussians p;
+  for (auto _ : state) project_gaussians(m, cam, s, p);
+  size_t visible = 0;
+  for (size_t i = 0; i < p.size(); ++i) visible += p.visible(i);
+  state.counters["visible"] = double(visible) / double(c.n);
+}
+
+void BM_ProjectBackward(benchmark::State& state) {
+  const Case c = case_of(state);
+  const GaussianModel m = scene_of(c);
+  const Camera cam = bench_camera(c.width, c.height);
+  RenderSettings s;
+  s.depth = false;
+  s.zero_culled_gradients = false;
+  ProjectedGaussians p;
+  project_gaussians(m, cam, s, p);
+  ProjectedGradients pg;
+  pg.resize(c.n);
+  std::mt19937 rng(3);
+  std::normal_distribution<float> normal(0.f, 1e-3f);
+  for (auto* v : {&pg.mean2d, &pg.conic, &pg.depth, &pg.color, &pg.opacity, &pg.instance_opacity})
+    for (float& x : *v) x = normal(rng);
+  GaussianGradients grads;
+  for (auto _ : state) project_gaussians_backward(m, cam, s, p, pg, grads);
+}
+
 // {Gaussians, resolution (1: 640x480, 2: 1280x960), scene (0: volume, 1: surface)}
 // Paired ratios against a colour render, alternating the two renders in one
 // loop so that the machine's drift cancels: the instance branch with M = 3
@@ -235,6 +271,8 @@ BENCHMARK(BM_Backward)->Apply(sizes);
 BENCHMARK(BM_ForwardBackward)->Apply(sizes);
 BENCHMARK(BM_TrainingForwardBackward)->Apply(sizes);
 BENCHMARK(BM_CameraGradientRatio)->Apply(sizes);
+BENCHMARK(BM_Project)->Apply(sizes);
+BENCHMARK(BM_ProjectBackward)->Apply(sizes);
 
 }  // namespace
 

@@ -323,18 +323,22 @@ TEST(RendererBackward, NoCameraGradientUnlessAsked) {
   for (double v : grads.camera) EXPECT_EQ(v, 0.0);
 }
 
-// Without the camera's gradient the Gaussians' geometry goes back a batch of
-// 16 at a time (project.cc's backward_geometry); with it, one at a time
-// (backward_one). The two write the same gradients up to float rounding,
-// for every Gaussian of a scene with culled ones, clamped Jacobians and a
-// partial last batch (50 Gaussians).
-TEST(RendererBackward, BatchedGeometryMatchesOneAtATime) {
+// Without the camera's gradient the Gaussians go back a batch of 16 at a
+// time (project_backward.cc's backward_geometry and backward_color_lanes,
+// the SH coefficients turned into lanes by sh_lanes.h); with it, one at a
+// time (backward_one). The two write the same gradients up to float
+// rounding, for every Gaussian of a scene with culled ones, clamped
+// Jacobians and a partial last batch (50 Gaussians), at every SH degree.
+class BatchedMatchesOneAtATime : public ::testing::TestWithParam<int> {};
+
+TEST_P(BatchedMatchesOneAtATime, EveryGradient) {
   const GaussianModel m = random_scene(50, 27);
   const Camera cam = test_camera(32, 24);
   RenderOutputGradients g = colour_alpha_depth_weights(cam, 31);
   const CpuRenderer renderer;
   RenderSettings batched;
-  RenderSettings one_at_a_time;
+  batched.sh_degree = GetParam();
+  RenderSettings one_at_a_time = batched;
   one_at_a_time.camera_gradient = true;
   std::unique_ptr<RenderState> state;
   renderer.render(m, cam, batched, &state);
@@ -357,6 +361,7 @@ TEST(RendererBackward, BatchedGeometryMatchesOneAtATime) {
   }
   EXPECT_EQ(a.mean2d_ndc, b.mean2d_ndc);
 }
+INSTANTIATE_TEST_SUITE_P(ShDegrees, BatchedMatchesOneAtATime, ::testing::Values(0, 1, 2, 3));
 
 // The batches write every gradient of every Gaussian, culled or not, SH
 // bands above the active degree included (the trainer reuses its gradient
