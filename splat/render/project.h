@@ -37,7 +37,10 @@ struct ProjectedGaussians {
 void project_gaussians(const GaussianModel& model, const Camera& camera,
                        const RenderSettings& settings, ProjectedGaussians& out);
 
-// dLoss/d(projected quantities), accumulated by the rasterizer's backward pass.
+// dLoss/d(projected quantities), accumulated by the rasterizer's backward
+// pass for the visible Gaussians; the culled ones' values are left as they
+// were, not cleared (36 bytes of every Gaussian a view, when late in
+// training more than half of them are culled in any one view).
 struct ProjectedGradients {
   std::vector<float> mean2d;            // 2N, per pixel unit
   std::vector<float> conic;             // 3N
@@ -45,7 +48,7 @@ struct ProjectedGradients {
   std::vector<float> color;             // 3N
   std::vector<float> opacity;           // N, w.r.t. sigma
   std::vector<float> instance_opacity;  // N, w.r.t. sigma*
-  void resize(size_t n);
+  void resize(size_t n);                // new values 0, the others kept
 };
 
 // Chains the projected gradients back to the model parameters. Writes every

@@ -10,7 +10,6 @@
 #include <cmath>
 #include <vector>
 
-#include "splat/parallel_fill.h"
 #include "splat/render/fast_exp.h"
 #include "splat/render/projection_view.h"
 #include "splat/render/sh.h"
@@ -35,12 +34,12 @@ void GaussianGradients::resize(size_t n) {
 }
 
 void ProjectedGradients::resize(size_t n) {
-  parallel_assign(mean2d, 2 * n, 0.f);
-  parallel_assign(conic, 3 * n, 0.f);
-  parallel_assign(depth, n, 0.f);
-  parallel_assign(color, 3 * n, 0.f);
-  parallel_assign(opacity, n, 0.f);
-  parallel_assign(instance_opacity, n, 0.f);
+  mean2d.resize(2 * n);
+  conic.resize(3 * n);
+  depth.resize(n);
+  color.resize(3 * n);
+  opacity.resize(n);
+  instance_opacity.resize(n);
 }
 
 namespace {

@@ -55,6 +55,13 @@ struct BandEntryIndex {
   int32_t base, width;
 };
 
+// The visible Gaussians whose tile rectangle meets each band of tile rows,
+// in index order, band after band: members[start[b]] .. members[start[b + 1]].
+struct BandMembers {
+  std::vector<uint32_t> members;
+  std::vector<size_t> start;  // bands + 1
+};
+
 // Everything the backward pass needs from the forward pass.
 struct RasterState {
   int width = 0, height = 0;
@@ -68,10 +75,12 @@ struct RasterState {
   std::vector<SplatRecord, HugePageAllocator<SplatRecord>> records;
   std::vector<uint16_t> slot_blocks;  // per slot: the tile's 4x4 blocks it reaches, a bit each
   // Backward scratch, for one band of tile rows at a time:
-  std::vector<float> entry_grads;          // gradient per (Gaussian, tile) entry of the band
-  std::vector<uint32_t> band_entries;      // N + 1: entries of Gaussian i are [i] .. [i+1]
-  std::vector<BandEntryIndex> band_index;  // N
-  size_t max_band_entries = 0;             // 0: max(kBandEntriesPerGaussian * N, kMinBandEntries)
+  std::vector<float> entry_grads;           // gradient per (Gaussian, tile) entry of the band
+  BandMembers band_members;                 // of every band
+  std::vector<uint32_t> band_chunk_counts;  // scratch of find_band_members
+  std::vector<uint32_t> band_entries;       // members + 1: entries of member j are [j] .. [j+1]
+  std::vector<BandEntryIndex> band_index;   // N, written for the band's members
+  size_t max_band_entries = 0;              // 0: max(kBandEntriesPerGaussian * N, kMinBandEntries)
 };
 
 // Fills out (colour, alpha, depth, contributors, and what settings ask of

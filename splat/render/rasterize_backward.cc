@@ -1,7 +1,9 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <span>
 #if defined(__AVX512F__)
 #include <immintrin.h>
 #endif
@@ -342,30 +344,74 @@ std::vector<TileRowBand> plan_bands(const TileBins& bins, size_t max_entries) {
   return bands;
 }
 
-// Numbers the band's entries Gaussian by Gaussian, and each Gaussian's row by
-// row: fills st.band_entries and st.band_index; returns the entry count.
-size_t number_band_entries(RasterState& st, TileRowBand band) {
-  const ProjectedGaussians& p = st.projected;
-  const size_t n = p.size();
-  st.band_entries.resize(n + 1);
-  st.band_index.resize(n);
-  auto rows_in_band = [&](size_t i) {
-    const int32_t* r = &p.tile_rect[4 * i];
-    return std::max(0, std::min(r[3], band.row_end) - std::max(r[1], band.row_begin));
+// Fills out with the visible Gaussians whose tile rectangle meets each band
+// (counts: scratch). Most Gaussians meet one band, and fewer than half of all
+// are visible late in training, when there are three bands: each band's
+// passes visit its members alone, not every Gaussian.
+void find_band_members(const ProjectedGaussians& p, const std::vector<TileRowBand>& bands,
+                       int tiles_y, std::vector<uint32_t>& counts, BandMembers& out) {
+  std::vector<int32_t> band_of_row(size_t(tiles_y), 0);
+  for (size_t b = 0; b < bands.size(); ++b)
+    for (int row = bands[b].row_begin; row < bands[b].row_end; ++row) band_of_row[row] = int32_t(b);
+  const size_t n = p.size(), n_bands = bands.size();
+  // Fixed chunks, so that the members come in index order whatever the threads.
+  constexpr size_t kChunk = 8192;
+  const size_t chunks = (n + kChunk - 1) / kChunk;
+  // Calls visit(i, b) for each band b that visible Gaussian i of chunk c meets.
+  auto for_each_member = [&](size_t c, auto&& visit) {
+    for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
+      if (!p.visible(i)) continue;
+      const int32_t* r = &p.tile_rect[4 * i];
+      for (int32_t b = band_of_row[r[1]]; b <= band_of_row[r[3] - 1]; ++b) visit(i, size_t(b));
+    }
   };
+  counts.assign(chunks * n_bands, 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks, 1), [&](const auto& range) {
+    for (size_t c = range.begin(); c < range.end(); ++c)
+      for_each_member(c, [&](size_t, size_t b) { ++counts[c * n_bands + b]; });
+  });
+  // counts becomes each (chunk, band)'s first position in out.members.
+  out.start.assign(n_bands + 1, 0);
+  size_t at = 0;
+  for (size_t b = 0; b < n_bands; ++b) {
+    out.start[b] = at;
+    for (size_t c = 0; c < chunks; ++c) {
+      const uint32_t count = counts[c * n_bands + b];
+      counts[c * n_bands + b] = uint32_t(at);
+      at += count;
+    }
+  }
+  out.start[n_bands] = at;
+  out.members.resize(at);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks, 1), [&](const auto& range) {
+    for (size_t c = range.begin(); c < range.end(); ++c)
+      for_each_member(
+          c, [&](size_t i, size_t b) { out.members[counts[c * n_bands + b]++] = uint32_t(i); });
+  });
+}
+
+// Numbers the band's entries Gaussian by Gaussian (its members, in order),
+// and each Gaussian's row by row: fills st.band_entries (by member) and
+// st.band_index (by Gaussian, for the members); returns the entry count.
+size_t number_band_entries(RasterState& st, TileRowBand band, std::span<const uint32_t> members) {
+  const ProjectedGaussians& p = st.projected;
+  const size_t n = members.size();
+  st.band_entries.resize(n + 1);
+  st.band_index.resize(p.size());
   st.band_entries[0] = 0;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8192), [&](const auto& range) {
-    for (size_t i = range.begin(); i < range.end(); ++i) {
-      const int32_t* r = &p.tile_rect[4 * i];
-      st.band_entries[i + 1] = p.visible(i) ? uint32_t(rows_in_band(i) * (r[2] - r[0])) : 0;
+    for (size_t j = range.begin(); j < range.end(); ++j) {
+      const int32_t* r = &p.tile_rect[4 * members[j]];
+      const int32_t rows = std::min(r[3], band.row_end) - std::max(r[1], band.row_begin);
+      st.band_entries[j + 1] = uint32_t(rows * (r[2] - r[0]));
     }
   });
-  for (size_t i = 0; i < n; ++i) st.band_entries[i + 1] += st.band_entries[i];
+  for (size_t j = 0; j < n; ++j) st.band_entries[j + 1] += st.band_entries[j];
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8192), [&](const auto& range) {
-    for (size_t i = range.begin(); i < range.end(); ++i) {
-      const int32_t* r = &p.tile_rect[4 * i];
+    for (size_t j = range.begin(); j < range.end(); ++j) {
+      const int32_t* r = &p.tile_rect[4 * members[j]];
       const int32_t width = r[2] - r[0], first_row = std::max(r[1], band.row_begin);
-      st.band_index[i] = {int32_t(st.band_entries[i]) - first_row * width - r[0], width};
+      st.band_index[members[j]] = {int32_t(st.band_entries[j]) - first_row * width - r[0], width};
     }
   });
   return st.band_entries[n];
@@ -404,19 +450,22 @@ void backward_band(const RenderSettings& settings, RasterState& st,
   });
 }
 
-// Adds each Gaussian's entries of the band, in entry order, to its sums.
-void sum_band_entries(const RasterState& st, ProjectedGradients& out) {
-  const size_t n = st.projected.size();
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& range) {
-    for (size_t i = range.begin(); i < range.end(); ++i) {
-      const uint32_t first = st.band_entries[i], last = st.band_entries[i + 1];
-      if (first == last) continue;
-      float sum[kEntryGrads] = {out.mean2d[2 * i],    out.mean2d[2 * i + 1],  out.conic[3 * i],
-                                out.conic[3 * i + 1], out.conic[3 * i + 2],   out.color[3 * i],
-                                out.color[3 * i + 1], out.color[3 * i + 2],   out.depth[i],
-                                out.opacity[i],       out.instance_opacity[i]};
+// Adds each member's entries of the band, in entry order, to its sums; a
+// Gaussian's sums start at zero in its first band (that of its first row).
+void sum_band_entries(const RasterState& st, TileRowBand band, std::span<const uint32_t> members,
+                      ProjectedGradients& out) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, members.size(), 4096), [&](const auto& range) {
+    for (size_t j = range.begin(); j < range.end(); ++j) {
+      const size_t i = members[j];
+      const uint32_t first = st.band_entries[j], last = st.band_entries[j + 1];
+      std::array<float, kEntryGrads> sum{};
+      if (st.projected.tile_rect[4 * i + 1] < band.row_begin)
+        sum = {out.mean2d[2 * i],    out.mean2d[2 * i + 1],  out.conic[3 * i],
+               out.conic[3 * i + 1], out.conic[3 * i + 2],   out.color[3 * i],
+               out.color[3 * i + 1], out.color[3 * i + 2],   out.depth[i],
+               out.opacity[i],       out.instance_opacity[i]};
       for (uint32_t e = first; e < last; ++e)
-        for (int j = 0; j < kEntryGrads; ++j) sum[j] += st.entry_grads[size_t(e) * kEntryGrads + j];
+        for (int k = 0; k < kEntryGrads; ++k) sum[k] += st.entry_grads[size_t(e) * kEntryGrads + k];
       out.mean2d[2 * i] = sum[kMeanX];
       out.mean2d[2 * i + 1] = sum[kMeanY];
       out.conic[3 * i] = sum[kConicA];
@@ -447,14 +496,19 @@ void rasterize_backward(const RenderSettings& settings, RasterState& st,
                                  ? st.max_band_entries
                                  : std::max(kBandEntriesPerGaussian * n, kMinBandEntries);
   out.resize(n);
+  const std::vector<TileRowBand> bands = plan_bands(st.bins, max_entries);
+  find_band_members(st.projected, bands, st.bins.tiles_y, st.band_chunk_counts, st.band_members);
   // Band after band, each Gaussian's entries are added in tile order, the
   // same order whatever the banding or the thread count.
-  for (const TileRowBand band : plan_bands(st.bins, max_entries)) {
-    const size_t entries = number_band_entries(st, band);
+  for (size_t b = 0; b < bands.size(); ++b) {
+    const std::span<const uint32_t> members(
+        st.band_members.members.data() + st.band_members.start[b],
+        st.band_members.start[b + 1] - st.band_members.start[b]);
+    const size_t entries = number_band_entries(st, bands[b], members);
     // Every entry is written by the tile it belongs to: no zero fill needed.
     st.entry_grads.resize(entries * kEntryGrads);
-    backward_band(settings, st, grads, tile_fn, color, planes, band);
-    sum_band_entries(st, out);
+    backward_band(settings, st, grads, tile_fn, color, planes, bands[b]);
+    sum_band_entries(st, bands[b], members, out);
   }
 }
 

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "splat/render/project.h"
 #include "splat/render/rasterize.h"
@@ -64,6 +65,47 @@ TEST(RasterizeBackward, BandsOfTileRowsGiveTheSameGradientsToTheBit) {
 
   expect_same(whole, banded);
   EXPECT_TRUE(std::any_of(whole.opacity.begin(), whole.opacity.end(), [](float v) { return v; }));
+}
+
+// The buffers are reused from view to view and only the visible Gaussians'
+// values are written, from zero: what the buffer held before (NaN here)
+// changes none of them, and the culled ones' are left alone.
+TEST(RasterizeBackward, VisibleGradientsDoNotDependOnWhatTheBufferHeld) {
+  const GaussianModel m = testing_scenes::random_scene(300, 32);
+  const Camera cam = testing_scenes::test_camera(80, 64);
+  RenderSettings s;
+  const size_t pixels = size_t(cam.width) * cam.height;
+  RenderOutputGradients g;
+  g.color.resize(3 * pixels);
+  for (size_t k = 0; k < g.color.size(); ++k) g.color[k] = 0.01f * float(int(k % 7) - 3);
+  RasterState st = forward_state(m, cam, s);
+  st.max_band_entries = 1;  // Gaussians split across bands, too
+  ProjectedGradients fresh;
+  rasterize_backward(s, st, g, fresh);
+  ProjectedGradients reused;
+  reused.resize(m.size());
+  for (auto* v : {&reused.mean2d, &reused.conic, &reused.depth, &reused.color, &reused.opacity,
+                  &reused.instance_opacity})
+    v->assign(v->size(), std::nanf(""));
+  rasterize_backward(s, st, g, reused);
+  size_t culled = 0;
+  for (size_t i = 0; i < m.size(); ++i) {
+    if (!st.projected.visible(i)) {
+      ++culled;
+      EXPECT_TRUE(std::isnan(reused.opacity[i]));
+      continue;
+    }
+    EXPECT_EQ(reused.mean2d[2 * i], fresh.mean2d[2 * i]);
+    EXPECT_EQ(reused.mean2d[2 * i + 1], fresh.mean2d[2 * i + 1]);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(reused.conic[3 * i + k], fresh.conic[3 * i + k]);
+      EXPECT_EQ(reused.color[3 * i + k], fresh.color[3 * i + k]);
+    }
+    EXPECT_EQ(reused.depth[i], fresh.depth[i]);
+    EXPECT_EQ(reused.opacity[i], fresh.opacity[i]);
+    EXPECT_EQ(reused.instance_opacity[i], fresh.instance_opacity[i]);
+  }
+  EXPECT_GT(culled, 0u) << "the scene must have culled Gaussians";
 }
 
 }  // namespace
