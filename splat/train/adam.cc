@@ -54,6 +54,30 @@ void adam_update(float* __restrict p, const float* __restrict grad, float* __res
   }
 }
 
+// adam_update over n Gaussians of kWidth values each, with the gradient of
+// those out of view (visible[i] == 0) taken as +0, whatever it holds: the
+// same results as adam_update<true> gives them. For groups of a few values
+// a Gaussian: the Gaussians in view come in no order by index, about one in
+// two late in training, and a branch or a call per run of them cost more
+// than the step itself; reading the few unused gradients costs less.
+template <int kWidth>
+void adam_update_selected(float* __restrict p, const float* __restrict grad, float* __restrict m,
+                          float* __restrict v, const uint8_t* __restrict visible, size_t n,
+                          const AdamStep& a) {
+  for (size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < kWidth; ++k) {
+      const size_t j = kWidth * i + k;
+      const float read = grad[j];  // loaded in any case, so that the loop vectorises
+      const float g = visible[i] ? read : 0.f;
+      const float mi = a.b1 * m[j] + (1 - a.b1) * g;
+      const float vi = a.b2 * v[j] + (1 - a.b2) * g * g;
+      m[j] = mi;
+      v[j] = vi;
+      p[j] -= a.step_size * mi / (std::sqrt(vi) * a.inv_bc2_sqrt + a.eps);
+    }
+  }
+}
+
 // Adam over Gaussians [begin, end) of a group whose Gaussians have `width`
 // values, of which the first `active` move: runs of Gaussians in view
 // read their gradients, runs out of view (visible[i] == 0; null: none)
@@ -61,6 +85,19 @@ void adam_update(float* __restrict p, const float* __restrict grad, float* __res
 void adam_over_gaussians(float* p, const float* grad, float* m, float* v, size_t width,
                          size_t active, const uint8_t* visible, size_t begin, size_t end,
                          const AdamStep& a) {
+  if (visible && active == width && width <= 4) {
+    const size_t at = width * begin, n = end - begin;
+    switch (width) {
+      case 1:
+        return adam_update_selected<1>(&p[at], &grad[at], &m[at], &v[at], &visible[begin], n, a);
+      case 3:
+        return adam_update_selected<3>(&p[at], &grad[at], &m[at], &v[at], &visible[begin], n, a);
+      case 4:
+        return adam_update_selected<4>(&p[at], &grad[at], &m[at], &v[at], &visible[begin], n, a);
+      default:
+        break;
+    }
+  }
   for (size_t i = begin; i < end;) {
     const bool in_view = !visible || visible[i];
     size_t run_end = visible ? i + 1 : end;
