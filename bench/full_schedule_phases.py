@@ -20,7 +20,7 @@ PHASES = [
     ("rasterize forward", r"rasterize_forward|gather_with_blocks|TileGaussians|blend_block|"
                           r"pack_records"),
     ("rasterize backward", r"rasterize_backward|backward_tile|backward_band|sum_band_entries|"
-                           r"number_band_entries"),
+                           r"number_band_entries|find_band_members"),
     ("loss (L1 + SSIM)", r"image_loss|ssim|blur|gaussian_window|psnr|rgb_channel|weighted_rows|"
                          r"split_channels|difference_sums"),
     ("Adam", r"GaussianAdam|adam_update"),
