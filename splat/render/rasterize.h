@@ -75,8 +75,8 @@ struct RasterState {
   std::vector<SplatRecord, HugePageAllocator<SplatRecord>> records;
   std::vector<uint16_t> slot_blocks;  // per slot: the tile's 4x4 blocks it reaches, a bit each
   // Backward scratch, for one band of tile rows at a time:
-  std::vector<float> entry_grads;           // gradient per (Gaussian, tile) entry of the band
-  BandMembers band_members;                 // of every band
+  std::vector<float> entry_grads;  // gradient per (Gaussian, tile) entry of the band (only grows)
+  BandMembers band_members;        // of every band
   std::vector<uint32_t> band_chunk_counts;  // scratch of find_band_members
   std::vector<uint32_t> band_entries;       // members + 1: entries of member j are [j] .. [j+1]
   std::vector<BandEntryIndex> band_index;   // N, written for the band's members

@@ -524,8 +524,10 @@ void rasterize_backward(const RenderSettings& settings, RasterState& st,
         st.band_members.members.data() + st.band_members.start[b],
         st.band_members.start[b + 1] - st.band_members.start[b]);
     const size_t entries = number_band_entries(st, bands[b], members);
-    // Every entry is written by the tile it belongs to: no zero fill needed.
-    st.entry_grads.resize(entries * kEntryGrads);
+    // Every entry is written by the tile it belongs to: no zero fill needed,
+    // and the buffer only grows (growing a vector zero-fills the new part,
+    // which band after band of different sizes did every iteration).
+    if (st.entry_grads.size() < entries * kEntryGrads) st.entry_grads.resize(entries * kEntryGrads);
     backward_band(settings, st, grads, tile_fn, color, planes, bands[b]);
     sum_band_entries(st, bands[b], members, out);
   }
