@@ -1,3 +1,4 @@
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -423,12 +424,21 @@ void backward_band(const RenderSettings& settings, RasterState& st,
                    size_t planes, TileRowBand band) {
   const size_t tile_begin = size_t(band.row_begin) * st.bins.tiles_x,
                tile_end = size_t(band.row_end) * st.bins.tiles_x;
-  tbb::parallel_for(tbb::blocked_range<size_t>(tile_begin, tile_end, 1), [&](const auto& range) {
+  // Scratch per thread, not per task: a task's buffers grew tile by tile
+  // and were freed at its end, some hundred times a view.
+  struct Scratch {
     TileGaussians tg;
     std::vector<uint32_t> entries;
-    auto s = std::make_unique<TileBackState>();
-    s->g_planes.assign(planes * kBlocks * kLanes, 0.f);
-    s->first_geometry_plane = settings.maps_without_geometry_gradient;
+    std::unique_ptr<TileBackState> s;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  tbb::parallel_for(tbb::blocked_range<size_t>(tile_begin, tile_end, 1), [&](const auto& range) {
+    auto& [tg, entries, s] = scratch.local();
+    if (!s) {
+      s = std::make_unique<TileBackState>();
+      s->g_planes.assign(planes * kBlocks * kLanes, 0.f);
+      s->first_geometry_plane = settings.maps_without_geometry_gradient;
+    }
     for (size_t t = range.begin(); t < range.end(); ++t) {
       const uint32_t lo = st.bins.tile_start[t], hi = st.bins.tile_start[t + 1];
       if (lo == hi) continue;  // no entries to write

@@ -1,3 +1,4 @@
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -274,8 +275,11 @@ void rasterize_forward(const RenderSettings& settings, RasterState& st, RenderOu
   st.slot_blocks.resize(st.bins.num_entries());
 
   const size_t tiles = size_t(st.bins.tiles_x) * st.bins.tiles_y;
+  // The tile's Gaussians per thread, not per task: a task's buffers grew
+  // tile by tile and were freed at its end, some hundred times a view.
+  tbb::enumerable_thread_specific<TileGaussians> gathered;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const auto& range) {
-    TileGaussians tg;
+    TileGaussians& tg = gathered.local();
     BlockState s;
     TilePlanes tile_planes;
     for (size_t t = range.begin(); t < range.end(); ++t) {
