@@ -188,31 +188,41 @@ void BM_CameraGradientRatio(benchmark::State& state) {
   report(state, out, c);
 }
 
-// The passes over every Gaussian alone, as training runs them (colour, no
-// depth, culled Gaussians' gradients left unwritten): the projection with
-// the SH colour, and its backward from fixed projected gradients.
+// The passes over every Gaussian alone, as training runs them: the
+// projection with the SH colour, and its backward from fixed projected
+// gradients.
+RenderSettings trainer_settings() {
+  RenderSettings s;
+  s.depth = false;                  // colour alone
+  s.zero_culled_gradients = false;  // culled Gaussians' gradients left unwritten
+  return s;
+}
+
+// A case's scene and camera, projected once with the trainer's settings.
+struct ProjectedScene {
+  explicit ProjectedScene(const Case& c)
+      : model(scene_of(c)), camera(bench_camera(c.width, c.height)) {
+    project_gaussians(model, camera, settings, projected);
+  }
+  GaussianModel model;
+  Camera camera;
+  RenderSettings settings = trainer_settings();
+  ProjectedGaussians projected;
+};
+
 void BM_Project(benchmark::State& state) {
   const Case c = case_of(state);
-  const GaussianModel m = scene_of(c);
-  const Camera cam = bench_camera(c.width, c.height);
-  RenderSettings s;
-  s.depth = false;
-  ProjectedGaussians p;
-  for (auto _ : state) project_gaussians(m, cam, s, p);
+  ProjectedScene scene(c);
+  for (auto _ : state)
+    project_gaussians(scene.model, scene.camera, scene.settings, scene.projected);
   size_t visible = 0;
-  for (size_t i = 0; i < p.size(); ++i) visible += p.visible(i);
+  for (size_t i = 0; i < c.n; ++i) visible += scene.projected.visible(i);
   state.counters["visible"] = double(visible) / double(c.n);
 }
 
 void BM_ProjectBackward(benchmark::State& state) {
   const Case c = case_of(state);
-  const GaussianModel m = scene_of(c);
-  const Camera cam = bench_camera(c.width, c.height);
-  RenderSettings s;
-  s.depth = false;
-  s.zero_culled_gradients = false;
-  ProjectedGaussians p;
-  project_gaussians(m, cam, s, p);
+  const ProjectedScene scene(c);
   ProjectedGradients pg;
   pg.resize(c.n);
   std::mt19937 rng(3);
@@ -220,7 +230,9 @@ void BM_ProjectBackward(benchmark::State& state) {
   for (auto* v : {&pg.mean2d, &pg.conic, &pg.depth, &pg.color, &pg.opacity, &pg.instance_opacity})
     for (float& x : *v) x = normal(rng);
   GaussianGradients grads;
-  for (auto _ : state) project_gaussians_backward(m, cam, s, p, pg, grads);
+  for (auto _ : state)
+    project_gaussians_backward(scene.model, scene.camera, scene.settings, scene.projected, pg,
+                               grads);
 }
 
 // {Gaussians, resolution (1: 640x480, 2: 1280x960), scene (0: volume, 1: surface)}
