@@ -54,7 +54,9 @@ void adam_update(float* __restrict p, const float* __restrict grad, float* __res
   }
 }
 
-// adam_update over n Gaussians of kWidth values each, with the gradient of
+// adam_update over n Gaussians of kWidth values each (its formulas written
+// again: through a shared inline helper GCC no longer vectorises this loop),
+// with the gradient of
 // those out of view (visible[i] == 0) taken as +0, whatever it holds: the
 // same results as adam_update<true> gives them. For groups of a few values
 // a Gaussian: the Gaussians in view come in no order by index, about one in
@@ -79,9 +81,10 @@ void adam_update_selected(float* __restrict p, const float* __restrict grad, flo
 }
 
 // Adam over Gaussians [begin, end) of a group whose Gaussians have `width`
-// values, of which the first `active` move: runs of Gaussians in view
-// read their gradients, runs out of view (visible[i] == 0; null: none)
-// step with zero gradients.
+// values, of which the first `active` move; the Gaussians out of view
+// (visible[i] == 0; null: none) step with zero gradients. Narrow groups go
+// through adam_update_selected; the others by runs of Gaussians in view and
+// out of view, the runs in view reading their gradients.
 void adam_over_gaussians(float* p, const float* grad, float* m, float* v, size_t width,
                          size_t active, const uint8_t* visible, size_t begin, size_t end,
                          const AdamStep& a) {
