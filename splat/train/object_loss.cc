@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -78,28 +79,63 @@ std::vector<int32_t> sample_objects(const std::vector<int32_t>& present, int m,
   return out;
 }
 
+namespace {
+
+constexpr double kEps = 1e-6;  // the clamp of S inside the logarithms
+
+// weight * scale * dLoss/dS of one plane: zero where the clamp is active.
+// Its own loop, without the logarithm, so that it vectorises.
+void object_loss_gradient(const float* S, const uint16_t* ids, int32_t label, size_t pixels,
+                          double weight_scale, float* g) {
+  for (size_t p = 0; p < pixels; ++p) {
+    const double b = ids[p] == label ? 1.0 : 0.0;
+    const double s = std::min(std::max(double(S[p]), kEps), 1 - kEps);  // std::clamp, branch-free
+    // Computed everywhere, then masked to +0 by its bits: with a select GCC
+    // moves the division under the condition and, as it may trap, does not
+    // vectorise the loop (s is clamped, so the division is always finite).
+    const float value = float(weight_scale * (s - b) / (s * (1 - s)));
+    const uint32_t keep = (S[p] > kEps) & (S[p] < 1 - kEps) ? ~0u : 0u;
+    g[p] = std::bit_cast<float>(std::bit_cast<uint32_t>(value) & keep);
+  }
+}
+
+// The sum over one plane of -[b log s + (1 - b) log(1 - s)]. With b 0 or 1
+// that is -log(b ? s : 1 - s), the same double; and where the clamp is
+// active (most pixels: no Gaussian of the object reaches them, S = 0) s is
+// a clamp bound, whose logarithms are computed once.
+double object_loss_sum(const float* S, const uint16_t* ids, int32_t label, size_t pixels) {
+  constexpr double kLow = kEps, kHigh = 1 - kEps;
+  const double log_low = std::log(kLow), log_one_minus_low = std::log(1 - kLow);
+  const double log_high = std::log(kHigh), log_one_minus_high = std::log(1 - kHigh);
+  double sum = 0;
+  for (size_t p = 0; p < pixels; ++p) {
+    const bool b = ids[p] == label;
+    if (S[p] <= kLow)
+      sum -= b ? log_low : log_one_minus_low;
+    else if (S[p] >= kHigh)
+      sum -= b ? log_high : log_one_minus_high;
+    else
+      sum -= std::log(b ? double(S[p]) : 1 - double(S[p]));
+  }
+  return sum;
+}
+
+}  // namespace
+
 double object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
                    const IdMap& ids, float weight, std::vector<float>* grad) {
   const size_t pixels = ids.ids.size(), m = labels.size();
   if (maps.size() != m * pixels) throw std::invalid_argument("object_loss: map sizes differ");
-  if (grad) grad->assign(maps.size(), 0.f);
+  if (grad) grad->resize(maps.size());  // every value is written
   if (m == 0) return 0;
-  constexpr double kEps = 1e-6;
   const double scale = 1.0 / (double(m) * double(pixels));
   double loss = 0;
   for (size_t j = 0; j < m; ++j) {
     const float* S = &maps[j * pixels];
-    float* g = grad ? &(*grad)[j * pixels] : nullptr;
-    double sum = 0;
-    for (size_t p = 0; p < pixels; ++p) {
-      const double b = ids.ids[p] == labels[j] ? 1.0 : 0.0;
-      const double s = std::clamp(double(S[p]), kEps, 1 - kEps);
-      sum -= b * std::log(s) + (1 - b) * std::log(1 - s);
-      // d/dS of the clamped loss: zero where the clamp is active.
-      if (g && S[p] > kEps && S[p] < 1 - kEps)
-        g[p] = float(weight * scale * (s - b) / (s * (1 - s)));
-    }
-    loss += sum;
+    if (grad)
+      object_loss_gradient(S, ids.ids.data(), labels[j], pixels, weight * scale,
+                           &(*grad)[j * pixels]);
+    loss += object_loss_sum(S, ids.ids.data(), labels[j], pixels);
   }
   return loss * scale;
 }
@@ -135,7 +171,10 @@ double split_object_loss(std::span<const float> maps, const std::vector<int32_t>
   std::vector<float> whole(half);
   for (size_t k = 0; k < half; ++k) whole[k] = maps[k] + maps[half + k];
   const double loss = object_loss(whole, labels, ids, weight, grad);
-  if (grad) grad->insert(grad->end(), grad->begin(), grad->end());
+  if (grad) {  // the same gradient for both halves (inserting a vector into itself is undefined)
+    grad->resize(2 * half);
+    std::copy_n(grad->begin(), half, grad->begin() + long(half));
+  }
   return loss;
 }
 

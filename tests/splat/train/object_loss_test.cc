@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "splat/atomic_file.h"
 #include "splat/error.h"
@@ -37,6 +39,46 @@ TEST(ObjectLoss, GradientMatchesFiniteDifferences) {
         (2 * h);
     EXPECT_NEAR(grad[i], fd, 1e-3 * std::abs(fd) + 1e-6) << i;
   }
+}
+
+// The loss and its gradient as the paper writes them, one pixel at a time,
+// against which object_loss (which skips the logarithms of clamped values)
+// must agree to the last bit.
+double reference_object_loss(const std::vector<float>& maps, const std::vector<int32_t>& labels,
+                             const IdMap& ids, float weight, std::vector<float>& grad) {
+  const size_t pixels = ids.ids.size();
+  const double eps = 1e-6, scale = 1.0 / (double(labels.size()) * double(pixels));
+  grad.assign(maps.size(), 0.f);
+  double loss = 0;
+  for (size_t j = 0; j < labels.size(); ++j) {
+    double sum = 0;
+    for (size_t p = 0; p < pixels; ++p) {
+      const float S = maps[j * pixels + p];
+      const double b = ids.ids[p] == labels[j] ? 1.0 : 0.0;
+      const double s = std::clamp(double(S), eps, 1 - eps);
+      sum -= b * std::log(s) + (1 - b) * std::log(1 - s);
+      if (S > eps && S < 1 - eps)
+        grad[j * pixels + p] = float(weight * scale * (s - b) / (s * (1 - s)));
+    }
+    loss += sum;
+  }
+  return loss * scale;
+}
+
+TEST(ObjectLoss, EqualsThePerPixelFormulaExactly) {
+  IdMap ids(37, 11);
+  std::mt19937 rng(7);
+  for (uint16_t& id : ids.ids) id = uint16_t(rng() % 4);
+  const std::vector<int32_t> labels = {1, 3, 2};
+  // Zeros, ones, values next to the clamp's bounds and values inside.
+  const float specials[] = {0.f, 1.f, 1e-7f, 1e-6f, 2e-6f, 0.999999f, 0.9999995f, 0.5f};
+  std::vector<float> maps(labels.size() * ids.ids.size());
+  for (float& v : maps)
+    v = rng() % 2 ? specials[rng() % 8] : std::uniform_real_distribution<float>(0, 1)(rng);
+  std::vector<float> grad, expected_grad;
+  const double loss = object_loss(maps, labels, ids, 0.1f, &grad);
+  EXPECT_EQ(loss, reference_object_loss(maps, labels, ids, 0.1f, expected_grad));
+  EXPECT_EQ(grad, expected_grad);
 }
 
 TEST(ObjectLoss, PerfectOccupancyHasNearZeroLoss) {
