@@ -77,7 +77,6 @@ struct TileBackState {
   alignas(64) float behind_depth[kBlocks][kLanes];
   alignas(64) int32_t block_last[kBlocks];        // largest `last` of each block
   std::vector<float> g_planes;                    // dL/dS: [plane][block][lane]
-  alignas(64) float zeros[kBlocks][kLanes] = {};  // dL/dS of labels without a map
   int32_t first_geometry_plane = 0;               // planes below it reach sigma* only
 };
 
@@ -238,6 +237,15 @@ inline void write_entry(const float (&acc)[kEntryGrads][kLanes], const SplatReco
 #endif
 }
 
+// Calls visit(b, block) for each block b of the tile set in `blocks`.
+template <typename Visit>
+inline void for_each_block(unsigned blocks, int tile_x0, int tile_y0, Visit&& visit) {
+  for (; blocks; blocks &= blocks - 1) {
+    const int b = __builtin_ctz(blocks);
+    visit(b, PixelBlock::in_tile(tile_x0, tile_y0, b));
+  }
+}
+
 // All blocks of one tile, Gaussians back to front; each Gaussian's gradient
 // is summed over the blocks it reaches, then over lanes, once.
 template <bool kColor, bool kInstance, bool kAlphaDepth>
@@ -259,20 +267,21 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0
       std::fill_n(entry, kEntryGrads, 0.f);
       continue;
     }
-    const float* g_planes = nullptr;
-    float instance_geometry = 0.f;
-    if constexpr (kInstance) {
-      g_planes =
-          tg[k].plane >= 0 ? &s.g_planes[size_t(tg[k].plane) * kBlocks * kLanes] : &s.zeros[0][0];
-      instance_geometry = tg[k].plane >= s.first_geometry_plane ? 1.f : 0.f;
-    }
     alignas(64) float acc[kEntryGrads][kLanes] = {};
-    for (unsigned blocks = reached; blocks; blocks &= blocks - 1) {
-      const int b = __builtin_ctz(blocks);
-      const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
-      back_block<kColor, kInstance, kAlphaDepth>(tg, size_t(k), block.cx0(), block.cy0(), b,
-                                                 kInstance ? g_planes + b * kLanes : nullptr,
-                                                 instance_geometry, s, acc);
+    // Only Gaussians whose label has a map pay for the instance terms (the
+    // others' dL/dS is zero: they would add only zeros).
+    if (kInstance && tg[k].plane >= 0) {
+      const float* g_planes = &s.g_planes[size_t(tg[k].plane) * kBlocks * kLanes];
+      const float instance_geometry = tg[k].plane >= s.first_geometry_plane ? 1.f : 0.f;
+      for_each_block(reached, tile_x0, tile_y0, [&](int b, const PixelBlock& block) {
+        back_block<kColor, true, kAlphaDepth>(tg, size_t(k), block.cx0(), block.cy0(), b,
+                                              g_planes + b * kLanes, instance_geometry, s, acc);
+      });
+    } else {
+      for_each_block(reached, tile_x0, tile_y0, [&](int b, const PixelBlock& block) {
+        back_block<kColor, false, kAlphaDepth>(tg, size_t(k), block.cx0(), block.cy0(), b,
+                                               nullptr, 0.f, s, acc);
+      });
     }
     write_entry(acc, tg[size_t(k)], entry);
   }
