@@ -75,9 +75,10 @@ struct TileBackState {
   // plane instead of three of colour and three of background.
   alignas(64) float behind_color[kBlocks][kLanes];
   alignas(64) float behind_depth[kBlocks][kLanes];
-  alignas(64) int32_t block_last[kBlocks];        // largest `last` of each block
-  std::vector<float> g_planes;                    // dL/dS: [plane][block][lane]
-  int32_t first_geometry_plane = 0;               // planes below it reach sigma* only
+  alignas(64) int32_t block_last[kBlocks];  // largest `last` of each block
+  std::vector<float> g_planes;              // dL/dS: [plane][block][lane]
+  std::vector<uint8_t> tile_planes;         // per plane: loaded for this tile
+  int32_t first_geometry_plane = 0;         // planes below it reach sigma* only
 };
 
 // One Gaussian on one block (first pixel centre px0, py0): adds its pixels'
@@ -279,8 +280,8 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0
       });
     } else {
       for_each_block(reached, tile_x0, tile_y0, [&](int b, const PixelBlock& block) {
-        back_block<kColor, false, kAlphaDepth>(tg, size_t(k), block.cx0(), block.cy0(), b,
-                                               nullptr, 0.f, s, acc);
+        back_block<kColor, false, kAlphaDepth>(tg, size_t(k), block.cx0(), block.cy0(), b, nullptr,
+                                               0.f, s, acc);
       });
     }
     write_entry(acc, tg[size_t(k)], entry);
@@ -299,10 +300,32 @@ TileFunction pick_tile_function(bool color, bool instance, bool alpha_depth) {
   return table[(color ? 4 : 0) + (instance ? 2 : 0) + (alpha_depth ? 1 : 0)];
 }
 
-void load_tile_state(const RenderSettings& settings, const RasterState& st,
-                     const RenderOutputGradients& grads, bool color, size_t planes, int tile_x0,
-                     int tile_y0, TileBackState& s) {
+// dL/dS of the tile's pixels, for the planes its Gaussians draw on: a plane
+// is read only by the Gaussians whose label maps to it, and most tiles show
+// none of the few sampled objects. A plane at a time: across the planes, each
+// pixel's load missed the cache anew.
+void load_tile_planes(const TileGaussians& tg, const RasterState& st,
+                      const RenderOutputGradients& grads, size_t planes, int tile_x0, int tile_y0,
+                      TileBackState& s) {
+  s.tile_planes.assign(planes, 0);
+  for (size_t k = 0; k < tg.size(); ++k)
+    if (tg[k].plane >= 0) s.tile_planes[size_t(tg[k].plane)] = 1;
   const size_t pixels = size_t(st.width) * st.height;
+  for (size_t m = 0; m < planes; ++m) {
+    if (!s.tile_planes[m]) continue;
+    const float* plane = &grads.instance_maps[m * pixels];
+    for (int b = 0; b < kBlocks; ++b) {
+      const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
+      float* to = &s.g_planes[(m * kBlocks + b) * kLanes];
+      for (int l = 0; l < kLanes; ++l)
+        to[l] = block.inside(l, st.width, st.height) ? plane[block.pixel(l, st.width)] : 0.f;
+    }
+  }
+}
+
+void load_tile_state(const RenderSettings& settings, const RasterState& st,
+                     const RenderOutputGradients& grads, bool color, int tile_x0, int tile_y0,
+                     TileBackState& s) {
   for (int b = 0; b < kBlocks; ++b) {
     const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
     s.block_last[b] = 0;
@@ -320,9 +343,6 @@ void load_tile_state(const RenderSettings& settings, const RasterState& st,
         s.g_color[c][b][l] = in && color ? grads.color[3 * pix + c] : 0.f;
         s.behind_color[b][l] += s.g_color[c][b][l] * s.T_final[b][l] * settings.background[c];
       }
-      for (size_t m = 0; m < planes; ++m)
-        s.g_planes[(m * kBlocks + b) * kLanes + l] =
-            in ? grads.instance_maps[m * pixels + pix] : 0.f;
     }
   }
 }
@@ -463,7 +483,8 @@ void backward_band(const RenderSettings& settings, RasterState& st,
       }
       tg.gather(st, lo, hi);
       tg.use_blocks(st.slot_blocks.data() + lo);
-      load_tile_state(settings, st, grads, color, planes, tx * kTileSize, ty * kTileSize, *s);
+      load_tile_state(settings, st, grads, color, tx * kTileSize, ty * kTileSize, *s);
+      if (planes) load_tile_planes(tg, st, grads, planes, tx * kTileSize, ty * kTileSize, *s);
       tile_fn(tg, entries.data(), tx * kTileSize, ty * kTileSize, *s, st.entry_grads);
     }
   });
