@@ -34,7 +34,10 @@ struct TileBlockBounds {
 inline constexpr TileBlockBounds kTileBlockBounds{};
 
 struct TileGaussians {
+  // The first count records are the tile's. The buffer only grows: resizing
+  // it to each tile's count filled it anew after every smaller tile.
   std::vector<SplatRecord> records;
+  size_t count = 0;
   // Bit b of block_mask[k]: Gaussian k reaches (alpha >= 1/255) a pixel
   // centre of block b. Points into RasterState::slot_blocks.
   const uint16_t* block_mask = nullptr;
@@ -45,7 +48,7 @@ struct TileGaussians {
   size_t block_capacity = 0;
   std::array<uint32_t, kBlocksPerTile> block_count{};
 
-  size_t size() const { return records.size(); }
+  size_t size() const { return count; }
   const SplatRecord& operator[](size_t k) const { return records[k]; }
   const uint32_t* block_list(int b) const { return block_entries.data() + b * block_capacity; }
 
@@ -107,7 +110,8 @@ struct TileGaussians {
     // data() + offset, not &v[offset]: the list is empty when no Gaussian is
     // in view, and indexing an empty vector is undefined (UBSan).
     const uint32_t* gaussian = s.bins.slot_gaussian.data() + slot_begin;
-    records.resize(n);
+    if (records.size() < n) records.resize(n);
+    count = n;
     constexpr size_t kAhead = 16;
     for (size_t k = 0; k < std::min(n, kAhead); ++k) __builtin_prefetch(&s.records[gaussian[k]]);
     for (size_t k = 0; k < n; ++k) {
