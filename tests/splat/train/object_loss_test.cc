@@ -66,7 +66,7 @@ double reference_object_loss(const std::vector<float>& maps, const std::vector<i
 }
 
 TEST(ObjectLoss, EqualsThePerPixelFormulaExactly) {
-  IdMap ids(37, 11);
+  IdMap ids(300, 250);  // more pixels than one chunk of the gradient
   std::mt19937 rng(7);
   for (uint16_t& id : ids.ids) id = uint16_t(rng() % 4);
   const std::vector<int32_t> labels = {1, 3, 2};
