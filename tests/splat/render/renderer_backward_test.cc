@@ -250,6 +250,48 @@ TEST(RendererBackward, ColourLossNeverReachesInstanceOpacity) {
   for (float v : grads.instance_opacity_logits) ASSERT_EQ(v, 0.f);
 }
 
+// The backward pass is linear in the output gradients: with the colour and
+// the occupancy maps' gradients together (training's stage two, where only
+// the Gaussians whose label has a map take the instance terms), each
+// parameter's gradient is the sum of the two passes apart.
+TEST(RendererBackward, ColourAndObjectLossTogetherAreTheSumOfEach) {
+  const GaussianModel m = random_scene(400, 24);
+  const Camera cam = test_camera(64, 48);
+  const size_t pixels = size_t(cam.width) * cam.height;
+  RenderSettings s;
+  s.instance_labels = {1, 2};  // labels 0 and 3 have no map
+  const std::vector<float> color = random_weights(3 * pixels, 8);
+  const std::vector<float> maps = random_weights(2 * pixels, 9);
+  auto backward = [&](bool with_color, bool with_maps) {
+    RenderOutputGradients g;
+    if (with_color) g.color = color;
+    if (with_maps) g.instance_maps = maps;
+    const CpuRenderer renderer;
+    std::unique_ptr<RenderState> state;
+    renderer.render(m, cam, s, &state);
+    return renderer.backward(m, cam, s, *state, g);
+  };
+  const GaussianGradients both = backward(true, true), colour_only = backward(true, false),
+                          maps_only = backward(false, true);
+  auto expect_sum = [](const std::vector<float>& total, const std::vector<float>& a,
+                       const std::vector<float>& b, const char* name) {
+    ASSERT_EQ(total.size(), a.size());
+    for (size_t i = 0; i < total.size(); ++i)
+      ASSERT_NEAR(total[i], a[i] + b[i], 1e-4 * (std::abs(a[i]) + std::abs(b[i])) + 1e-7)
+          << name << " " << i;
+  };
+  expect_sum(both.means, colour_only.means, maps_only.means, "means");
+  expect_sum(both.log_scales, colour_only.log_scales, maps_only.log_scales, "log_scales");
+  expect_sum(both.rotations, colour_only.rotations, maps_only.rotations, "rotations");
+  expect_sum(both.opacity_logits, colour_only.opacity_logits, maps_only.opacity_logits, "opacity");
+  expect_sum(both.sh_dc, colour_only.sh_dc, maps_only.sh_dc, "sh_dc");
+  expect_sum(both.instance_opacity_logits, colour_only.instance_opacity_logits,
+             maps_only.instance_opacity_logits, "instance_opacity");
+  double star = 0;
+  for (float v : both.instance_opacity_logits) star += std::abs(v);
+  EXPECT_GT(star, 0.0);
+}
+
 TEST(RendererBackward, Mean2dNdcIsPixelGradientTimesHalfImageSize) {
   // The densification statistic against finite differences w.r.t. the
   // projected 2D mean itself (in double, through the reference renderer).
