@@ -56,9 +56,8 @@ void adam_update(float* __restrict p, const float* __restrict grad, float* __res
 
 // adam_update over n Gaussians of kWidth values each (its formulas written
 // again: through a shared inline helper GCC no longer vectorises this loop),
-// with the gradient of
-// those out of view (visible[i] == 0) taken as +0, whatever it holds: the
-// same results as adam_update<true> gives them. For groups of a few values
+// with the gradient of those out of view (visible[i] == 0) taken as +0,
+// whatever it holds: the same results as adam_update<true> gives them. For groups of a few values
 // a Gaussian: the Gaussians in view come in no order by index, about one in
 // two late in training, and a branch or a call per run of them cost more
 // than the step itself; reading the few unused gradients costs less.

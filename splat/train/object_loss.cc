@@ -82,7 +82,8 @@ std::vector<int32_t> sample_objects(const std::vector<int32_t>& present, int m,
 
 namespace {
 
-constexpr double kEps = 1e-6;  // the clamp of S inside the logarithms
+// The clamp of S inside the logarithms.
+constexpr double kLow = 1e-6, kHigh = 1 - kLow;
 
 // weight * scale * dLoss/dS of one plane: zero where the clamp is active.
 // Its own loop, without the logarithm, so that it vectorises.
@@ -90,12 +91,12 @@ void object_loss_gradient(const float* S, const uint16_t* ids, int32_t label, si
                           double weight_scale, float* g) {
   for (size_t p = 0; p < pixels; ++p) {
     const double b = ids[p] == label ? 1.0 : 0.0;
-    const double s = std::min(std::max(double(S[p]), kEps), 1 - kEps);  // std::clamp, branch-free
+    const double s = std::min(std::max(double(S[p]), kLow), kHigh);  // std::clamp, branch-free
     // Computed everywhere, then masked to +0 by its bits: with a select GCC
     // moves the division under the condition and, as it may trap, does not
     // vectorise the loop (s is clamped, so the division is always finite).
     const float value = float(weight_scale * (s - b) / (s * (1 - s)));
-    const uint32_t keep = (S[p] > kEps) & (S[p] < 1 - kEps) ? ~0u : 0u;
+    const uint32_t keep = (S[p] > kLow) & (S[p] < kHigh) ? ~0u : 0u;
     g[p] = std::bit_cast<float>(std::bit_cast<uint32_t>(value) & keep);
   }
 }
@@ -105,7 +106,6 @@ void object_loss_gradient(const float* S, const uint16_t* ids, int32_t label, si
 // active (most pixels: no Gaussian of the object reaches them, S = 0) s is
 // a clamp bound, whose logarithms are computed once.
 double object_loss_sum(const float* S, const uint16_t* ids, int32_t label, size_t pixels) {
-  constexpr double kLow = kEps, kHigh = 1 - kEps;
   const double log_low = std::log(kLow), log_one_minus_low = std::log(1 - kLow);
   const double log_high = std::log(kHigh), log_one_minus_high = std::log(1 - kHigh);
   double sum = 0;

@@ -167,11 +167,16 @@ struct FloaterScene {
     std::unique_ptr<RenderState> state;
     const RenderOutput r = renderer.render(m, cam, s, &state);
     RenderOutputGradients out_grads;
-    if (keep)
-      split_object_loss(r.instance_maps, {1, 2}, mask, 0.1f, &out_grads.instance_maps);
-    else
-      object_loss(r.instance_maps, r.instance_map_labels, mask, 0.1f, &out_grads.instance_maps);
+    object_loss_into(r, mask, keep, out_grads);
     return renderer.backward(m, cam, s, *state, out_grads);
+  }
+  // The object loss's dLoss/dS of a render with object_settings(keep).
+  static void object_loss_into(const RenderOutput& r, const IdMap& mask,
+                               const std::vector<uint8_t>* keep, RenderOutputGradients& out) {
+    if (keep)
+      split_object_loss(r.instance_maps, {1, 2}, mask, 0.1f, &out.instance_maps);
+    else
+      object_loss(r.instance_maps, r.instance_map_labels, mask, 0.1f, &out.instance_maps);
   }
   void train(const IdMap& mask, int iterations, const std::vector<uint8_t>* keep = nullptr) {
     const CpuRenderer renderer;
@@ -182,10 +187,7 @@ struct FloaterScene {
       std::unique_ptr<RenderState> state;
       const RenderOutput r = renderer.render(m, cam, s, &state);
       image_loss(r.color, target, {}, &out_grads.color);
-      if (keep)
-        split_object_loss(r.instance_maps, {1, 2}, mask, 0.1f, &out_grads.instance_maps);
-      else
-        object_loss(r.instance_maps, r.instance_map_labels, mask, 0.1f, &out_grads.instance_maps);
+      object_loss_into(r, mask, keep, out_grads);
       const GaussianGradients g = renderer.backward(m, cam, s, *state, out_grads);
       // The object loss alone gives sigma no gradient; the colour loss is at its minimum.
       adam.step(m, g, {1e-4f, 2.5e-3f, 1.25e-4f, 0.05f, 5e-3f, 1e-3f, 0.05f}, {}, 0);
