@@ -21,7 +21,14 @@ cmake --build "$build" -j"$(nproc)" --target fuzzers > "$out/build.log" 2>&1 ||
 # The harnesses hand each input to the parsers as a file: in memory it is 4x faster.
 [ -d /dev/shm ] && [ -w /dev/shm ] && export TMPDIR="${TMPDIR:-/dev/shm}"
 export LSAN_OPTIONS="suppressions=$root/tests/fuzz/lsan.supp:print_suppressions=0"
-total=0 crashed=0
+total=0 crashed=0 idle=0
+# Every harness tests/fuzz/CMakeLists.txt declares must have been built.
+expected=$(grep -c '^op2gs_fuzzer(' "$root/tests/fuzz/CMakeLists.txt")
+built=$(find "$build/tests/fuzz" -maxdepth 1 -name 'fuzz_*' -type f -executable 2> /dev/null | wc -l)
+if [ "$built" -ne "$expected" ]; then
+  echo "fuzz: $built harnesses built, tests/fuzz/CMakeLists.txt declares $expected" >&2
+  idle=1
+fi
 printf '%-22s %12s %8s\n' harness executions crashes
 for harness in "$build"/tests/fuzz/fuzz_*; do
   [ -x "$harness" ] || continue
@@ -35,7 +42,12 @@ for harness in "$build"/tests/fuzz/fuzz_*; do
   # libFuzzer also saves its slowest input (slow-unit-*): a note, not a finding.
   found=$(find "$out/crashes/$name" -type f ! -name 'slow-unit-*' | wc -l)
   printf '%-22s %12s %8s\n' "$name" "$runs" "$found"
+  if [ "$runs" -eq 0 ]; then  # did not start, or ran nothing: no test at all
+    echo "fuzz: $name ran no input (log: $out/$name.log)" >&2
+    tail -5 "$out/$name.log" >&2
+    idle=1
+  fi
   total=$((total + runs)) crashed=$((crashed + found))
 done
 echo "total: $total executions, $crashed crashes (inputs and logs in $out)"
-[ "$crashed" -eq 0 ]
+[ "$crashed" -eq 0 ] && [ "$idle" -eq 0 ]

@@ -109,6 +109,26 @@ IdMap read_id_map(const fs::path& file) {
   return map;
 }
 
+IntegerImage read_integer_image(const fs::path& file) {
+  auto in = open_image_input(file);
+  const auto& spec = in->spec();
+  IntegerImage image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.channels = spec.nchannels;
+  const auto base = OIIO::TypeDesc::BASETYPE(spec.format.basetype);
+  if (base == OIIO::TypeDesc::UINT8) {
+    const auto px = read_pixels<uint8_t>(*in, OIIO::TypeDesc::UINT8, file);
+    image.samples.assign(px.begin(), px.end());
+  } else if (base == OIIO::TypeDesc::UINT16) {
+    image.samples = read_pixels<uint16_t>(*in, OIIO::TypeDesc::UINT16, file);
+  } else {
+    throw InputError(file, fmt::format("masks must be 8- or 16-bit unsigned integers, are {}",
+                                       spec.format.c_str()));
+  }
+  return image;
+}
+
 void write_id_map(const fs::path& file, const IdMap& map, int bits) {
   if (bits == 16) {
     OIIO::ImageSpec spec(map.width, map.height, 1, OIIO::TypeDesc::UINT16);

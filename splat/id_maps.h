@@ -17,6 +17,17 @@ namespace splat {
 // see png_indexed.h). Anything with more than one channel, or not an integer
 // type of 8/16 bits, is rejected with an InputError naming the file.
 IdMap read_id_map(const std::filesystem::path& file);
+
+// An image's samples as stored, for masks that are not yet ID maps (binary
+// masks, colour-coded instance maps): 8- or 16-bit unsigned integers, any
+// number of channels, interleaved. Palette PNGs come back as their RGB
+// colours (read_png_palette_indices gives their indices). Throws InputError
+// naming the file when it cannot be read or holds another sample type.
+struct IntegerImage {
+  int width = 0, height = 0, channels = 0;
+  std::vector<uint16_t> samples;  // width * height * channels
+};
+IntegerImage read_integer_image(const std::filesystem::path& file);
 // Writes a single-channel PNG atomically with bits = 8 or 16; 8 bits requires
 // every ID <= 255.
 void write_id_map(const std::filesystem::path& file, const IdMap& map, int bits);

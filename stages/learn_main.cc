@@ -55,11 +55,25 @@ int main(int argc, char** argv) {
                  "sigma*: the object loss may raise it, not lower it, so masks that miss part "
                  "of an object in some views punch no holes (0: off, the paper)")
       ->capture_default_str();
+  std::string recipe = "paper";
+  app.add_option("--recipe", recipe,
+                 "paper: the object loss is the binary cross-entropy of the paper; robust: the "
+                 "generalized cross-entropy (--gce-q), which learns the majority of the views' "
+                 "masks instead of their mean, so a segmenter's misses and leaks in some views "
+                 "are outvoted, as the vote outvotes them")
+      ->capture_default_str();
+  app.add_option("--gce-q", o.train.object_loss.pixel_loss.q,
+                 "q of the generalized cross-entropy (--recipe robust), in (0, 1]")
+      ->capture_default_str();
   app.add_option("--lr-instance-opacity", o.train.lr_instance_opacity,
                  "learning rate of sigma* (as a logit)")
       ->capture_default_str();
   return stages::run_stage(app, argc, argv, [&] {
     common.apply();
+    o.train.object_loss.pixel_loss.kind = stages::parse_choice<splat::PixelLoss::Kind>(
+        "--recipe", recipe,
+        {{"paper", splat::PixelLoss::Kind::kCrossEntropy},
+         {"robust", splat::PixelLoss::Kind::kGeneralized}});
     o.train.densify_until = 0;  // no densification (nor opacity reset) in stage two
     const splat::WorkLayout w{work};
     o.start_checkpoint = stages::or_default(checkpoint, w.stage_one().latest_checkpoint());

@@ -44,6 +44,8 @@ void ObjectLossOptions::Check() const {
   if (weight > 0 && id_maps.empty()) throw std::invalid_argument("no ID map folder given");
   if (!(protected_agreement >= 0 && protected_agreement <= 1))
     throw std::invalid_argument("the protected label agreement must be in [0, 1]");
+  if (pixel_loss.kind == PixelLoss::Kind::kGeneralized && !(pixel_loss.q > 0 && pixel_loss.q <= 1))
+    throw std::invalid_argument("the generalized cross-entropy's q must be in (0, 1]");
   if (protected_agreement > 0 && label_agreement.empty())
     throw std::invalid_argument("protecting sigma* needs op2gs-vote's label agreement file");
 }
@@ -121,10 +123,45 @@ double object_loss_sum(const float* S, const uint16_t* ids, int32_t label, size_
   return sum;
 }
 
+// The generalized cross-entropy (PixelLoss): weight * scale * dLoss/dS of
+// one plane, d/dS (1 - p^q) / q = -p^(q-1) dp/dS, zero where the clamp is
+// active. The powers only where S is not clamped: most pixels are.
+void generalized_loss_gradient(const float* S, const uint16_t* ids, int32_t label, size_t pixels,
+                               double weight_scale, double q, float* g) {
+  for (size_t p = 0; p < pixels; ++p) {
+    if (!(S[p] > kLow && S[p] < kHigh)) {
+      g[p] = 0.f;
+      continue;
+    }
+    const double s = S[p];
+    g[p] = float(ids[p] == label ? -weight_scale * std::pow(s, q - 1)
+                                 : weight_scale * std::pow(1 - s, q - 1));
+  }
+}
+
+// The sum over one plane of (1 - p^q) / q, p = s where b, else 1 - s, s clamped.
+double generalized_loss_sum(const float* S, const uint16_t* ids, int32_t label, size_t pixels,
+                            double q) {
+  const auto term = [q](double p) { return (1 - std::pow(p, q)) / q; };
+  const double at_low = term(kLow), at_one_minus_low = term(1 - kLow);
+  double sum = 0;
+  for (size_t p = 0; p < pixels; ++p) {
+    const bool b = ids[p] == label;
+    if (S[p] <= kLow)
+      sum += b ? at_low : at_one_minus_low;
+    else if (S[p] >= kHigh)
+      sum += b ? at_one_minus_low : at_low;
+    else
+      sum += term(b ? double(S[p]) : 1 - double(S[p]));
+  }
+  return sum;
+}
+
 }  // namespace
 
 double object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
-                   const IdMap& ids, float weight, std::vector<float>* grad) {
+                   const IdMap& ids, float weight, std::vector<float>* grad,
+                   const PixelLoss& pixel_loss) {
   const size_t pixels = ids.ids.size(), m = labels.size();
   if (maps.size() != m * pixels) throw std::invalid_argument("object_loss: map sizes differ");
   if (grad) grad->resize(maps.size());  // every value is written
@@ -133,15 +170,23 @@ double object_loss(std::span<const float> maps, const std::vector<int32_t>& labe
   // The planes in parallel, and each plane's gradient in chunks; each
   // plane's sum stays one loop, so the loss is the same double whatever the
   // threads.
+  const bool generalized = pixel_loss.kind == PixelLoss::Kind::kGeneralized;
+  const double q = pixel_loss.q;
   std::vector<double> sums(m);
   tbb::parallel_for(size_t(0), m, [&](size_t j) {
     const float* S = &maps[j * pixels];
     if (grad)
       tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const auto& r) {
-        object_loss_gradient(S + r.begin(), &ids.ids[r.begin()], labels[j], r.size(),
-                             weight * scale, &(*grad)[j * pixels + r.begin()]);
+        const size_t at = r.begin();
+        float* g = &(*grad)[j * pixels + at];
+        if (generalized)
+          generalized_loss_gradient(S + at, &ids.ids[at], labels[j], r.size(), weight * scale, q,
+                                    g);
+        else
+          object_loss_gradient(S + at, &ids.ids[at], labels[j], r.size(), weight * scale, g);
       });
-    sums[j] = object_loss_sum(S, ids.ids.data(), labels[j], pixels);
+    sums[j] = generalized ? generalized_loss_sum(S, ids.ids.data(), labels[j], pixels, q)
+                          : object_loss_sum(S, ids.ids.data(), labels[j], pixels);
   });
   double loss = 0;
   for (double sum : sums) loss += sum;
@@ -173,12 +218,13 @@ int32_t split_label_offset(const std::vector<int32_t>& labels) {
 }
 
 double split_object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
-                         const IdMap& ids, float weight, std::vector<float>* grad) {
+                         const IdMap& ids, float weight, std::vector<float>* grad,
+                         const PixelLoss& pixel_loss) {
   const size_t half = labels.size() * ids.ids.size();
   if (maps.size() != 2 * half) throw std::invalid_argument("split_object_loss: map sizes differ");
   std::vector<float> whole(half);
   for (size_t k = 0; k < half; ++k) whole[k] = maps[k] + maps[half + k];
-  const double loss = object_loss(whole, labels, ids, weight, grad);
+  const double loss = object_loss(whole, labels, ids, weight, grad, pixel_loss);
   if (grad) {  // the same gradient for both halves (inserting a vector into itself is undefined)
     grad->resize(2 * half);
     std::copy_n(grad->begin(), half, grad->begin() + long(half));

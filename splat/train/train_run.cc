@@ -159,7 +159,13 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
       o.test_at_end ? trainer.evaluate(trainer.split().test, out.test_renders())
                     : std::vector<ViewMetrics>{};
   if (!metrics.empty()) log.record_test(trainer.iteration(), metrics);
-  const json m = metrics_json(metrics, trainer.iteration(), trainer.split().rule);
+  json m = metrics_json(metrics, trainer.iteration(), trainer.split().rule);
+  if (o.train.object_loss.weight > 0) {  // stage two: which object loss made sigma*
+    const PixelLoss& pixel = o.train.object_loss.pixel_loss;
+    m["object_loss"] = pixel.kind == PixelLoss::Kind::kGeneralized
+                           ? json{{"pixel_loss", "generalized cross-entropy"}, {"q", pixel.q}}
+                           : json{{"pixel_loss", "cross-entropy"}};
+  }
   write_text_atomically(out.metrics(), m.dump(2) + "\n");
   plot_training_curve(out.log(), out.curve());
 

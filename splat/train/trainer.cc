@@ -214,10 +214,12 @@ void Trainer::train_until(int until,
     st.loss = image_loss(shown, target_, o.loss, &out_grads_.color, &loss_buffers_);
     if (objects && protects())
       st.object_loss = split_object_loss(render_out_.instance_maps, st.objects, objects->ids,
-                                         o.object_loss.weight, &out_grads_.instance_maps);
+                                         o.object_loss.weight, &out_grads_.instance_maps,
+                                         o.object_loss.pixel_loss);
     else if (objects)
       st.object_loss = object_loss(render_out_.instance_maps, render_out_.instance_map_labels,
-                                   objects->ids, o.object_loss.weight, &out_grads_.instance_maps);
+                                   objects->ids, o.object_loss.weight, &out_grads_.instance_maps,
+                                   o.object_loss.pixel_loss);
     else
       out_grads_.instance_maps.clear();
     if (!std::isfinite(st.loss.total) || !std::isfinite(st.object_loss))

@@ -8,7 +8,6 @@
 # installed or cannot start (it needs root to run its daemons as here).
 # Usage: slurm_test.sh BIN_DIR
 source "$(dirname "${BASH_SOURCE[0]}")/test_lib.sh" "$1"
-skip() { echo "SKIP: $*"; exit 77; }
 for tool in munged slurmctld slurmd srun sinfo; do
   command -v "$tool" > /dev/null || skip "$tool not found (apt-get install slurm-wlm munge)"
 done

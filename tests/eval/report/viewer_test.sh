@@ -5,13 +5,13 @@
 # starts at compared
 # with op2gs-render's images of that camera, isolating one object, and the
 # PLY the page cuts compared with op2gs-render --ply-object's.
-# Skipped (77) when Chromium or python3 is missing.
+# Skipped (77) when Chromium or python3 is missing; in CI that fails.
 # Usage: viewer_test.sh BIN_DIR VIEWER_CHECK
 source "$(dirname "${BASH_SOURCE[0]}")/../../pipeline/test_lib.sh"
 check="$2"
 chromium=$(command -v chromium || command -v chromium-browser || true)
-[ -n "$chromium" ] || { echo "SKIP: no chromium (scripts/setup.sh --tests installs it)"; exit 77; }
-command -v python3 > /dev/null || { echo "SKIP: no python3 to serve the page"; exit 77; }
+[ -n "$chromium" ] || skip "no chromium (scripts/setup.sh --tests installs it)"
+command -v python3 > /dev/null || skip "no python3 to serve the page"
 
 echo "-- a tiny scene through every stage, the report with its viewer"
 tiny_lerf_run "$tmp/run"
