@@ -198,7 +198,10 @@ TransformsCapture read_transforms_json(const fs::path& file, const fs::path& ima
       c.missing.push_back(file_path);
       continue;
     }
-    const fs::path relative = fs::weakly_canonical(photo).lexically_relative(images);
+    // The folders resolved, not the photo: a photo may be a link to a file
+    // elsewhere (a capture linked into a scene folder), named by the link.
+    const fs::path relative =
+        (fs::weakly_canonical(photo.parent_path()) / photo.filename()).lexically_relative(images);
     if (relative.empty() || *relative.begin() == "..")
       throw InputError(file, fmt::format("frame {}: the photo is not in the image folder {}",
                                          file_path, images_dir.string()));

@@ -111,6 +111,22 @@ TEST(TransformsJson, InstantNgpWithoutExtensionsAndWithMissingPhotos) {
   EXPECT_NEAR(acc.alignment.scale, 1.0, 1e-9);
 }
 
+TEST(TransformsJson, PhotosLinkedFromElsewhereKeepTheLinksNames) {
+  TempDir dir;
+  const synth::SynthOptions o = small_capture(synth::Shipping::kNerfstudio);
+  synth::generate_scene(o, dir / "capture", false);
+  // The scene links each photo of a capture kept elsewhere, under its name.
+  fs::create_directories(dir / "scene/images");
+  for (const auto& photo : fs::directory_iterator(dir / "capture/images"))
+    fs::create_symlink(photo.path(), dir / "scene/images" / photo.path().filename());
+  fs::copy_file(dir / "capture/transforms.json", dir / "scene/transforms.json");
+  fs::copy_file(dir / "capture/sparse_pc.ply", dir / "scene/sparse_pc.ply");
+  const TransformsCapture c =
+      read_transforms_json(dir / "scene/transforms.json", dir / "scene/images");
+  EXPECT_EQ(c.model.images.size(), 8u);
+  EXPECT_TRUE(c.missing.empty());
+}
+
 // A capture of two 8x6 photos with the given top-level keys.
 fs::path capture(const fs::path& dir, json top) {
   ImageRGB image(8, 6);
