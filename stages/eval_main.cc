@@ -27,6 +27,13 @@ int main(int argc, char** argv) {
   std::string queries;
   app.add_option("--queries", queries,
                  "query.json of op2gs-query: also score in query mode (objects chosen by text)");
+  std::string query_unavailable;
+  app.add_option("--query-unavailable", query_unavailable,
+                 "without --queries: why query mode could not run (reported as n/a)");
+  std::string id_maps;
+  app.add_option("--id-maps", id_maps,
+                 "the ID map folder the run voted from (auto: as the stages choose), recorded in "
+                 "metrics.json for the report to compare with the paper's matching figures");
   std::string renders, poses, true_poses;
   app.add_option("--renders", renders,
                  "rendered test views (<stem>.png): PSNR and SSIM against the scene's images/");
@@ -49,6 +56,8 @@ int main(int argc, char** argv) {
     o.truth_width = truth_width;
     o.renders = renders;
     o.query_results = queries;
+    o.query_unavailable = query_unavailable;
+    o.id_maps = id_maps;
     o.poses = poses;
     o.true_poses = true_poses;
     if (poses.empty() != true_poses.empty())

@@ -22,9 +22,20 @@ struct PaperSceneFigure {
   std::optional<double> mbiou;  // the 3DOVS tables give mIoU only
 };
 
-// The paper's per-scene result (table "LERF-Mask" with SAM2 pseudo-labels, or
-// the 3DOVS tables of the main text and the appendix), if it has one.
-std::optional<PaperSceneFigure> paper_scene_figure(Dataset d, const std::string& scene);
+// The pseudo-labels a run voted and learned from: the paper reports both
+// (its appendix, "SAM2 and SAM+DEVA").
+enum class PseudoLabels { kSam2, kSamDeva };
+// From the ID map folder a run used: DEVA's as LERF-Mask ships it
+// (object_mask/) and as ObjectGS prepares 3DOVS (object_mask_deva/), SAM2's
+// otherwise (sam2/, and the user's own).
+PseudoLabels pseudo_labels_of_folder(const std::string& id_map_folder);
+std::string pseudo_labels_name(PseudoLabels p);  // "SAM2", "SAM+DEVA"
+
+// The paper's per-scene result with those pseudo-labels (table "LERF-Mask"
+// and its appendix's SAM+DEVA row, or the 3DOVS tables of the main text and
+// the appendix), if it has one.
+std::optional<PaperSceneFigure> paper_scene_figure(Dataset d, const std::string& scene,
+                                                   PseudoLabels labels = PseudoLabels::kSam2);
 
 // The paper's ablation table ("dual-opacity in two stages"): mIoU and mBIoU
 // of the baseline and of dual opacity, in oracle and query mode.

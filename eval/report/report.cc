@@ -204,7 +204,19 @@ Table dataset_table(const std::vector<SceneData>& scenes, Dataset d) {
     t.header.push_back(k + " " + second_name(scenes));
   }
   const bool paper = d != Dataset::kOther;
-  if (paper) t.header.insert(t.header.end(), {"paper mIoU", "paper mBIoU"});
+  // The paper's figures of the pseudo-labels each scene used (metrics.json's
+  // id_maps; SAM2 when not recorded).
+  const auto labels_of = [](const SceneData& s) {
+    return s.metrics.contains("id_maps")
+               ? pseudo_labels_of_folder(s.metrics["id_maps"].value("folder", ""))
+               : PseudoLabels::kSam2;
+  };
+  std::set<std::string> label_names;
+  for (const SceneData& s : scenes) label_names.insert(pseudo_labels_name(labels_of(s)));
+  const std::string labels_title = label_names.size() == 1 ? *label_names.begin() : "per scene";
+  if (paper)
+    t.header.insert(t.header.end(), {"paper mIoU (" + labels_title + ")",
+                                     "paper mBIoU (" + labels_title + ")"});
   std::vector<double> sums(2 * keys.size() + 2, 0);
   std::vector<int> counts(sums.size(), 0);
   std::vector<bool> not_scored(sums.size(), false);  // a scene's n/a in the column
@@ -225,7 +237,7 @@ Table dataset_table(const std::vector<SceneData>& scenes, Dataset d) {
       add(row, 2 * i + 1, r ? r->second : NAN);
     }
     if (paper) {
-      const auto f = paper_scene_figure(d, s.input.name);
+      const auto f = paper_scene_figure(d, s.input.name, labels_of(s));
       add(row, 2 * keys.size(), f ? f->miou : NAN);
       add(row, 2 * keys.size() + 1, f && f->mbiou ? *f->mbiou : NAN);
     }

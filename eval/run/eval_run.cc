@@ -125,7 +125,10 @@ class MaskScoring {
   MaskScoring(const fs::path& scene, const EvalRunOptions& o, EvalRunResult& r)
       : scene_(scene), o_(o), r_(r), photos_(scene) {
     modes_.push_back({"oracle", nullptr});
-    if (o.query_results.empty()) return;
+    if (o.query_results.empty()) {
+      r.query_mode_unavailable = o.query_unavailable;
+      return;
+    }
     const splat::QueryResults answers = splat::read_query_results(o.query_results);
     if (!answers.full_size_clip) {
       r.query_mode_unavailable = kTestClip;
@@ -259,6 +262,8 @@ EvalRunResult run_evaluation(const fs::path& scene, const fs::path& out, const E
   const splat::DatasetLayout layout = splat::detect_dataset_layout(scene);
   metrics["layout"] = {{"name", splat::layout_name(layout)},
                        {"description", splat::layout_description(layout)}};
+  if (!o.id_maps.empty())
+    metrics["id_maps"] = {{"folder", splat::resolve_id_map_folder(scene, o.id_maps)}};
   metrics["mask_geometry"] =
       scoring.photos().active() ? "photos (renders resampled from the undistorted views)" : "views";
   metrics["modes"] = scoring.query_mode() ? json{"oracle", "query"} : json{"oracle"};

@@ -34,6 +34,13 @@ struct EvalRunOptions {
   // Query mode as well: query.json of op2gs-query, whose answers name the
   // object of each query (class).
   std::filesystem::path query_results;
+  // Without query results: why query mode could not run (a dataset run
+  // without the CLIP files), to be reported as n/a with that reason.
+  std::string query_unavailable;
+  // The ID map folder the run voted and learned from ("auto" resolves as the
+  // stages resolve it), recorded in metrics.json so that the report sets the
+  // paper's figures of the same pseudo-labels beside it; empty: not recorded.
+  std::string id_maps;
   void Check() const;  // throws std::invalid_argument
 };
 

@@ -79,6 +79,14 @@ mk DATASET=3dovs DATA_ROOT="$tmp/fx/3dovs" WORK_ROOT="$tmp/ovs" -n bed.sfm | gre
   fail "3DOVS SfM does not keep the LLFF cameras"
 mk DATASET=3dovs DATA_ROOT="$tmp/fx/3dovs" WORK_ROOT="$tmp/ovs" -n bed.eval |
   grep -- "--protocol 3dovs-lerf" > /dev/null || fail "3DOVS protocol"
+# Without the CLIP files a run still evaluates oracle mode, saying why query
+# mode is n/a, and neither embeds nor queries.
+mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" CLIP="$tmp/no-clip" \
+  -n figurines.eval > "$tmp/noclip.log"
+grep -q -- "--query-unavailable \"no CLIP files in $tmp/no-clip\"" "$tmp/noclip.log" ||
+  { cat "$tmp/noclip.log"; fail "a run without CLIP does not say why query mode is n/a"; }
+! grep -q "op2gs-embed\|op2gs-query\|--queries" "$tmp/noclip.log" ||
+  fail "a run without CLIP still embeds or queries"
 # A scene whose ground truth lost a query fails the check, naming it.
 rm "$tmp"/fx/lerf_mask/ramen/test_mask/*/egg.png
 if mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" check > "$tmp/check.log" 2>&1; then

@@ -120,6 +120,39 @@ TEST(Report, SaysWhichTestViewsHaveNoGroundTruth) {
       << md;
 }
 
+// A run that voted from LERF-Mask's DEVA maps (object_mask/) is set beside
+// the paper's SAM+DEVA row, one that voted from SAM2 maps beside its SAM2 row.
+TEST(Report, SetsThePapersFiguresOfTheSamePseudoLabelsBeside) {
+  const testing_util::TempDir tmp;
+  ReportOptions o;
+  o.dataset = "lerf-mask";
+  nlohmann::json m = nlohmann::json::parse(splat::read_text_file(scored().metrics));
+  m["id_maps"] = {{"folder", "object_mask"}};
+  splat::write_text_atomically(tmp / "deva.json", m.dump());
+  m["id_maps"] = {{"folder", "sam2"}};
+  splat::write_text_atomically(tmp / "sam2.json", m.dump());
+  o.scenes = {{"figurines", scored().scene, tmp / "deva.json", {}, {}, {}}};
+  std::string md = splat::read_text_file(write_report(tmp / "deva", o).markdown);
+  EXPECT_NE(md.find("paper mIoU (SAM+DEVA)"), std::string::npos) << md;
+  EXPECT_NE(md.find("91.2"), std::string::npos) << md;
+  EXPECT_EQ(md.find("92.3"), std::string::npos) << md;
+  o.scenes = {{"figurines", scored().scene, tmp / "sam2.json", {}, {}, {}}};
+  md = splat::read_text_file(write_report(tmp / "sam2", o).markdown);
+  EXPECT_NE(md.find("paper mIoU (SAM2)"), std::string::npos) << md;
+  EXPECT_NE(md.find("92.3"), std::string::npos) << md;
+}
+
+// op2gs-eval records the ID map folder a run used, "auto" resolved.
+TEST(Report, EvaluationRecordsTheIdMapsUsed) {
+  const testing_util::TempDir tmp;
+  EvalRunOptions o;
+  o.predictions = {{"exact", scored().scene / "instance_gt"}};
+  o.id_maps = "auto";
+  run_evaluation(scored().scene, tmp / "metrics.json", o);
+  const auto m = nlohmann::json::parse(splat::read_text_file(tmp / "metrics.json"));
+  EXPECT_EQ(m["id_maps"]["folder"], "sam2");
+}
+
 TEST(Report, MissingMetricsNameTheFile) {
   const testing_util::TempDir tmp;
   ReportOptions o;
