@@ -25,7 +25,11 @@
 #      per-object table on stdout.
 # Any failing step stops the script with its log's tail.
 #
-# Environment: ITERATIONS (7500), STAGE_ONE (5000), RESOLUTION (2: the
+# Environment: SFM_OPTS (op2gs-sfm's options; default "--matcher sequential
+# --max-image-size 1024": the poses are the robot's, COLMAP only triangulates
+# the starting points, and matching each frame with its neighbours on the
+# ring takes minutes where matching every pair of 104 frames takes most of
+# an hour on 2 cores), ITERATIONS (7500), STAGE_ONE (5000), RESOLUTION (2: the
 # photos at 640x360), SEED (of the mask errors, 1), MASK_ERRORS (options of
 # op2gs-mask-errors), VARIANTS ("paper": op2gs-learn's options per variant,
 # name=options with commas for spaces, e.g. "paper protect=--protect-agreement,0.9"),
@@ -122,7 +126,9 @@ fi
 scene="$work/sfm/scene"
 if [ ! -f "$work/stamp.sfm" ]; then
   echo "== $name: op2gs-sfm --import"
-  step sfm "$bin/op2gs-sfm" "$data" "$work/sfm" --import "$data/transforms.json"
+  # shellcheck disable=SC2086
+  step sfm "$bin/op2gs-sfm" "$data" "$work/sfm" --import "$data/transforms.json" \
+    ${SFM_OPTS:---matcher sequential --max-image-size 1024}
   touch "$work/stamp.sfm"
 fi
 one="$work/stage-one"

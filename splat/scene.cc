@@ -1,6 +1,7 @@
 #include "splat/scene.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cmath>
@@ -61,11 +62,14 @@ std::unique_ptr<Scene> Scene::load(const fs::path& root, const SceneOptions& opt
   const bool use_scaled =
       options.downscale > 1 && options.max_width == 0 && fs::is_directory(scaled_dir);
 
+  size_t capped = 0, widest = 0;
   for (const auto& [id, im] : model.images) {
     View v;
     v.name = im.name;
     const Camera full = pinhole_camera(model, im, sparse);
     const auto [w, h] = target_size(full.width, full.height, options);
+    if (options.max_width > 0 && full.width > options.max_width)
+      ++capped, widest = std::max<size_t>(widest, size_t(full.width));
     v.camera = full.resized(w, h);
     v.file = (use_scaled ? scaled_dir : full_dir) / im.name;
     v.file_is_downscaled = use_scaled;
@@ -81,6 +85,10 @@ std::unique_ptr<Scene> Scene::load(const fs::path& root, const SceneOptions& opt
   }
   std::sort(scene->views_.begin(), scene->views_.end(),
             [](const View& a, const View& b) { return a.name < b.name; });
+  if (capped > 0)
+    spdlog::info("{} of {} views are wider than {} px (up to {}): scaled down to that width, as "
+                 "the 3DGS reference scales large photos (--max-width 0 keeps them)",
+                 capped, scene->views_.size(), options.max_width, widest);
 
   for (const auto& [id, p] : model.points3d) {
     scene->points_.push_back(p.xyz);

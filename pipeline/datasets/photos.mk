@@ -15,6 +15,10 @@ SCENES ?= $(foreach d,$(wildcard $(DATA_ROOT)/*/images),$(notdir $(patsubst %/im
 QUERIES ?=
 $(foreach s,$(SCENES),$(eval QUERIES_$(s) ?= $(QUERIES)))
 SPLIT ?= every8
+# Stages one and two train at most 1600 px wide, as the 3DGS reference scales
+# photos wider than 1.6K (a 12 MP phone photo would take a day); logged by
+# op2gs-train. MAX_WIDTH=0 trains at the photos' own width.
+MAX_WIDTH ?= 1600
 QUERY_MODE := no
 DATASET_PAPER := other
 DATASET_LAYOUT := photos
