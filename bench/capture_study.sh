@@ -12,7 +12,8 @@
 #
 # A condition is a name and op2gs-synth options, name=options with commas for
 # spaces: clean=  exposure=--exposure,0.25,--white-balance,0.03
-# Variants (VARIANTS, default "plain"): plain (the paper's recipe), joined
+# Variants (VARIANTS, default "plain"): plain (the paper's recipe), robust
+# (op2gs-learn --recipe robust: the generalized cross-entropy), joined
 # (op2gs-vote --join-switched-ids), tracks (and --find-merges), exposure
 # (op2gs-train --exposure-compensation), exposure+joined, exposure+tracks; and for the sensitivity study,
 # one value changed from the paper's: lambda-<lambda_o>, m-<M>, tau-<tau>,
@@ -63,6 +64,7 @@ for condition in "$@"; do
       fi
       case "$recipe" in
         plain) ;;
+        robust) learn_options=(--recipe robust) ;;
         lambda-*) learn_options=(--lambda-o "${variant#lambda-}") ;;
         m-*) learn_options=(--objects-per-step "${variant#m-}") ;;
         tau-*) render_options=(--tau "${variant#tau-}") ;;

@@ -149,7 +149,7 @@ for condition in $conditions; do
   for variant in $variants; do
     label="${variant%%=*}"
     options=()
-    [[ "$variant" == *=* ]] && read -r -a options <<< "${variant#*=}" && options=(${options[@]//,/ })
+    [[ "$variant" == *=* ]] && IFS=, read -r -a options <<< "${variant#*=}"
     run="$work/$condition-$label"
     echo "== $name: $condition masks, $label ${options[*]:-}"
     rm -rf "$run"

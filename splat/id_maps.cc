@@ -88,24 +88,14 @@ IdMap read_id_map_for_view(const fs::path& file, int width, int height) {
 
 IdMap read_id_map(const fs::path& file) {
   if (auto indexed = read_png_palette_indices(file)) return std::move(*indexed);
-  auto in = open_image_input(file);
-  const auto& spec = in->spec();
-  if (spec.nchannels != 1)
+  IntegerImage image = read_integer_image(file);
+  if (image.channels != 1)
     throw InputError(file,
-                     fmt::format("ID map must be single-channel, has {} channels", spec.nchannels));
-  const auto base = OIIO::TypeDesc::BASETYPE(spec.format.basetype);
-  IdMap map(spec.width, spec.height);
-  // Read in the file's own integer type: converting 8 to 16 bit through
-  // OpenImageIO would rescale the IDs (255 -> 65535).
-  if (base == OIIO::TypeDesc::UINT8) {
-    const auto px = read_pixels<uint8_t>(*in, OIIO::TypeDesc::UINT8, file);
-    std::copy(px.begin(), px.end(), map.ids.begin());
-  } else if (base == OIIO::TypeDesc::UINT16) {
-    map.ids = read_pixels<uint16_t>(*in, OIIO::TypeDesc::UINT16, file);
-  } else {
-    throw InputError(file, fmt::format("ID map must be 8- or 16-bit unsigned integers, is {}",
-                                       spec.format.c_str()));
-  }
+                     fmt::format("ID map must be single-channel, has {} channels", image.channels));
+  IdMap map;
+  map.width = image.width;
+  map.height = image.height;
+  map.ids = std::move(image.samples);
   return map;
 }
 
@@ -116,6 +106,8 @@ IntegerImage read_integer_image(const fs::path& file) {
   image.width = spec.width;
   image.height = spec.height;
   image.channels = spec.nchannels;
+  // Read in the file's own integer type: converting 8 to 16 bit through
+  // OpenImageIO would rescale the values (255 -> 65535).
   const auto base = OIIO::TypeDesc::BASETYPE(spec.format.basetype);
   if (base == OIIO::TypeDesc::UINT8) {
     const auto px = read_pixels<uint8_t>(*in, OIIO::TypeDesc::UINT8, file);
@@ -123,7 +115,7 @@ IntegerImage read_integer_image(const fs::path& file) {
   } else if (base == OIIO::TypeDesc::UINT16) {
     image.samples = read_pixels<uint16_t>(*in, OIIO::TypeDesc::UINT16, file);
   } else {
-    throw InputError(file, fmt::format("masks must be 8- or 16-bit unsigned integers, are {}",
+    throw InputError(file, fmt::format("must hold 8- or 16-bit unsigned integers, holds {}",
                                        spec.format.c_str()));
   }
   return image;

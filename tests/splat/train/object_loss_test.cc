@@ -41,28 +41,37 @@ TEST(ObjectLoss, GradientMatchesFiniteDifferences) {
   }
 }
 
-// The loss and its gradient as the paper writes them, one pixel at a time,
-// against which object_loss (which skips the logarithms of clamped values)
-// must agree to the last bit.
+// The loss and its gradient as the papers write them, one pixel at a time:
+// the binary cross-entropy, against which object_loss (which skips the
+// logarithms of clamped values) must agree to the last bit, or the
+// generalized cross-entropy (1 - p^q) / q with p = S where B, else 1 - S.
 double reference_object_loss(const std::vector<float>& maps, const std::vector<int32_t>& labels,
-                             const IdMap& ids, float weight, std::vector<float>& grad) {
+                             const IdMap& ids, float weight, std::vector<float>& grad,
+                             const PixelLoss& loss = {}) {
   const size_t pixels = ids.ids.size();
-  const double eps = 1e-6, scale = 1.0 / (double(labels.size()) * double(pixels));
+  const double eps = 1e-6, scale = 1.0 / (double(labels.size()) * double(pixels)), q = loss.q;
+  const bool generalized = loss.kind == PixelLoss::Kind::kGeneralized;
   grad.assign(maps.size(), 0.f);
-  double loss = 0;
+  double total = 0;
   for (size_t j = 0; j < labels.size(); ++j) {
     double sum = 0;
     for (size_t p = 0; p < pixels; ++p) {
       const float S = maps[j * pixels + p];
       const double b = ids.ids[p] == labels[j] ? 1.0 : 0.0;
       const double s = std::clamp(double(S), eps, 1 - eps);
-      sum -= b * std::log(s) + (1 - b) * std::log(1 - s);
-      if (S > eps && S < 1 - eps)
-        grad[j * pixels + p] = float(weight * scale * (s - b) / (s * (1 - s)));
+      const double prob = b ? s : 1 - s;
+      if (generalized)
+        sum += (1 - std::pow(prob, q)) / q;
+      else
+        sum -= b * std::log(s) + (1 - b) * std::log(1 - s);
+      if (S > eps && S < 1 - eps)  // generalized: dL/dS = -prob^(q-1) dprob/dS
+        grad[j * pixels + p] =
+            float(weight * scale *
+                  (generalized ? -std::pow(prob, q - 1) * (b ? 1 : -1) : (s - b) / (s * (1 - s))));
     }
-    loss += sum;
+    total += sum;
   }
-  return loss * scale;
+  return total * scale;
 }
 
 TEST(ObjectLoss, EqualsThePerPixelFormulaExactly) {
@@ -81,31 +90,6 @@ TEST(ObjectLoss, EqualsThePerPixelFormulaExactly) {
   EXPECT_EQ(grad, expected_grad);
 }
 
-// The generalized cross-entropy (PixelLoss) as its paper writes it,
-// (1 - p^q) / q with p = S where B, else 1 - S, one pixel at a time.
-double reference_generalized_loss(const std::vector<float>& maps,
-                                  const std::vector<int32_t>& labels, const IdMap& ids,
-                                  float weight, double q, std::vector<float>& grad) {
-  const size_t pixels = ids.ids.size();
-  const double eps = 1e-6, scale = 1.0 / (double(labels.size()) * double(pixels));
-  grad.assign(maps.size(), 0.f);
-  double loss = 0;
-  for (size_t j = 0; j < labels.size(); ++j) {
-    double sum = 0;
-    for (size_t p = 0; p < pixels; ++p) {
-      const float S = maps[j * pixels + p];
-      const bool b = ids.ids[p] == labels[j];
-      const double s = std::clamp(double(S), eps, 1 - eps);
-      const double prob = b ? s : 1 - s;
-      sum += (1 - std::pow(prob, q)) / q;
-      if (S > eps && S < 1 - eps)  // dL/dS = -prob^(q-1) dprob/dS
-        grad[j * pixels + p] = float(weight * scale * -std::pow(prob, q - 1) * (b ? 1 : -1));
-    }
-    loss += sum;
-  }
-  return loss * scale;
-}
-
 PixelLoss generalized(double q) { return {PixelLoss::Kind::kGeneralized, q}; }
 
 TEST(ObjectLoss, GeneralizedLossEqualsItsPerPixelFormula) {
@@ -120,7 +104,8 @@ TEST(ObjectLoss, GeneralizedLossEqualsItsPerPixelFormula) {
   for (double q : {0.7, 0.3, 1.0}) {
     std::vector<float> grad, expected_grad;
     const double loss = object_loss(maps, labels, ids, 0.1f, &grad, generalized(q));
-    EXPECT_NEAR(loss, reference_generalized_loss(maps, labels, ids, 0.1f, q, expected_grad), 1e-12)
+    EXPECT_NEAR(loss, reference_object_loss(maps, labels, ids, 0.1f, expected_grad, generalized(q)),
+                1e-12)
         << q;
     ASSERT_EQ(grad.size(), expected_grad.size());
     for (size_t i = 0; i < grad.size(); ++i)
