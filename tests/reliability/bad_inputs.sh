@@ -110,6 +110,16 @@ case_ idmap-all-zero 1 "sam2: no training view.s ID map holds an object ID" \
 case_ idmap-names-malformed 1 "objects.json: " "echo '{oops' > scene/sam2/objects.json" "${V[@]}"
 case_ idmap-learn-wrong-size 1 "frame_00001.png: .*aspect" "oiiotool $map --resize 64x64 -o $map" "${L[@]}"
 
+echo "-- a segmenter's masks (op2gs-masks)"
+M=("$bin/op2gs-masks" masks scene --out work/imported_masks)
+one_mask="mkdir -p masks/mug masks/cup && cp $map masks/mug/frame_00001.png"
+case_ masks-sizes-differ 1 "mug/frame_00001.png: is 128x96, another mask of its frame" \
+  "$one_mask && oiiotool $map --resize 64x48 -o masks/cup/frame_00001.png" "${M[@]}"
+case_ masks-name-no-image 1 "masks: cannot tell which object and frame" \
+  "mkdir masks && cp $map masks/holiday.png" "${M[@]}"
+case_ masks-garbage 1 "cup/frame_00001.png: " \
+  "$one_mask && echo 'not an image' > masks/cup/frame_00001.png" "${M[@]}"
+
 echo "-- COLMAP models"
 case_ colmap-text-truncated 1 "images.txt: .*missing the line of 2D points" \
   "sed -i '\$d' scene/sparse/0/images.txt" "${T[@]}"

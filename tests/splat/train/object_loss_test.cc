@@ -167,6 +167,22 @@ double settle(const PixelLoss& loss, int inside_views) {
   return 1 / (1 + std::exp(-logit));
 }
 
+// Where the occupancy already is the mask (exact masks the model has
+// learned: S = 1 inside, 0 outside, clamped), neither loss moves anything:
+// the robust recipe changes nothing that the masks agree on.
+TEST(ObjectLoss, NeitherLossMovesAnOccupancyThatIsItsMask) {
+  IdMap ids(4, 2);
+  ids.ids = {1, 1, 0, 2, 0, 1, 2, 2};
+  std::vector<float> maps;
+  for (int32_t label : {1, 2})
+    for (uint16_t id : ids.ids) maps.push_back(id == label ? 1.f : 0.f);
+  for (const PixelLoss& loss : {PixelLoss{}, generalized(0.7)}) {
+    std::vector<float> grad;
+    object_loss(maps, {1, 2}, ids, 0.1f, &grad, loss);
+    EXPECT_EQ(grad, std::vector<float>(maps.size(), 0.f));
+  }
+}
+
 TEST(ObjectLoss, TheGeneralizedLossSettlesAtTheMajorityOfNoisyMasks) {
   EXPECT_NEAR(settle({}, 6), 0.75, 0.01);
   const double r = 0.75, q = 0.7, odds = std::pow(r / (1 - r), 1 / (1 - q));
