@@ -74,16 +74,26 @@ double reference_object_loss(const std::vector<float>& maps, const std::vector<i
   return total * scale;
 }
 
+// Random masks of labels {1, 3, 2} over more pixels than one chunk of the
+// gradient, and occupancies that are zeros, ones, values next to the
+// clamp's bounds and values inside.
+struct LossCase {
+  IdMap ids{300, 250};
+  std::vector<int32_t> labels = {1, 3, 2};
+  std::vector<float> maps;
+  explicit LossCase(unsigned seed) {
+    std::mt19937 rng(seed);
+    for (uint16_t& id : ids.ids) id = uint16_t(rng() % 4);
+    const float specials[] = {0.f, 1.f, 1e-7f, 1e-6f, 2e-6f, 0.999999f, 0.9999995f, 0.5f};
+    maps.resize(labels.size() * ids.ids.size());
+    for (float& v : maps)
+      v = rng() % 2 ? specials[rng() % 8] : std::uniform_real_distribution<float>(0, 1)(rng);
+  }
+};
+
 TEST(ObjectLoss, EqualsThePerPixelFormulaExactly) {
-  IdMap ids(300, 250);  // more pixels than one chunk of the gradient
-  std::mt19937 rng(7);
-  for (uint16_t& id : ids.ids) id = uint16_t(rng() % 4);
-  const std::vector<int32_t> labels = {1, 3, 2};
-  // Zeros, ones, values next to the clamp's bounds and values inside.
-  const float specials[] = {0.f, 1.f, 1e-7f, 1e-6f, 2e-6f, 0.999999f, 0.9999995f, 0.5f};
-  std::vector<float> maps(labels.size() * ids.ids.size());
-  for (float& v : maps)
-    v = rng() % 2 ? specials[rng() % 8] : std::uniform_real_distribution<float>(0, 1)(rng);
+  const LossCase c(7);
+  const auto& [ids, labels, maps] = c;
   std::vector<float> grad, expected_grad;
   const double loss = object_loss(maps, labels, ids, 0.1f, &grad);
   EXPECT_EQ(loss, reference_object_loss(maps, labels, ids, 0.1f, expected_grad));
@@ -93,14 +103,8 @@ TEST(ObjectLoss, EqualsThePerPixelFormulaExactly) {
 PixelLoss generalized(double q) { return {PixelLoss::Kind::kGeneralized, q}; }
 
 TEST(ObjectLoss, GeneralizedLossEqualsItsPerPixelFormula) {
-  IdMap ids(300, 250);
-  std::mt19937 rng(11);
-  for (uint16_t& id : ids.ids) id = uint16_t(rng() % 4);
-  const std::vector<int32_t> labels = {1, 3, 2};
-  const float specials[] = {0.f, 1.f, 1e-7f, 1e-6f, 2e-6f, 0.999999f, 0.9999995f, 0.5f};
-  std::vector<float> maps(labels.size() * ids.ids.size());
-  for (float& v : maps)
-    v = rng() % 2 ? specials[rng() % 8] : std::uniform_real_distribution<float>(0, 1)(rng);
+  const LossCase c(11);
+  const auto& [ids, labels, maps] = c;
   for (double q : {0.7, 0.3, 1.0}) {
     std::vector<float> grad, expected_grad;
     const double loss = object_loss(maps, labels, ids, 0.1f, &grad, generalized(q));
