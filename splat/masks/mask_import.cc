@@ -152,11 +152,14 @@ MaskImportResult import_per_object(const MaskImportOptions& o, const std::string
   tbb::parallel_for(size_t(0), stems.size(), [&](size_t i) {
     const std::string& stem = stems[i];
     const auto masks = by_frame.find(stem);
+    if (masks == by_frame.end()) {  // no object in view: background only
+      ++empty;
+      write_id_map(out / (stem + ".png"), empty_map_for(images.at(stem)), result.bits);
+      return;
+    }
     size_t frame_overlap = 0;
-    const IdMap map = masks == by_frame.end() ? (++empty, empty_map_for(images.at(stem)))
-                                              : compose_frame(masks->second, frame_overlap);
+    write_id_map(out / (stem + ".png"), compose_frame(masks->second, frame_overlap), result.bits);
     overlap += frame_overlap;
-    write_id_map(out / (stem + ".png"), map, result.bits);
   });
   result.frames = stems.size();
   result.frames_without_masks = empty;
