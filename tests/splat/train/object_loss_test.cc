@@ -20,7 +20,8 @@
 namespace splat {
 namespace {
 
-TEST(ObjectLoss, GradientMatchesFiniteDifferences) {
+// The gradient object_loss returns against central differences of its loss.
+void expect_gradient_matches_finite_differences(const PixelLoss& loss, double tolerance) {
   IdMap ids(3, 2);
   ids.ids = {1, 1, 2, 0, 2, 1};
   const std::vector<int32_t> labels = {1, 2};
@@ -28,17 +29,21 @@ TEST(ObjectLoss, GradientMatchesFiniteDifferences) {
                              0.05f, 0.4f, 0.8f, 0.6f, 0.35f, 0.01f};
   std::vector<float> grad;
   const float weight = 0.1f;
-  object_loss(maps, labels, ids, weight, &grad);
+  object_loss(maps, labels, ids, weight, &grad, loss);
   for (size_t i = 0; i < maps.size(); ++i) {
     std::vector<float> plus = maps, minus = maps;
     const float h = 1e-3f;
     plus[i] += h, minus[i] -= h;
-    const double fd =
-        weight *
-        (object_loss(plus, labels, ids, 1, nullptr) - object_loss(minus, labels, ids, 1, nullptr)) /
-        (2 * h);
-    EXPECT_NEAR(grad[i], fd, 1e-3 * std::abs(fd) + 1e-6) << i;
+    const double fd = weight *
+                      (object_loss(plus, labels, ids, 1, nullptr, loss) -
+                       object_loss(minus, labels, ids, 1, nullptr, loss)) /
+                      (2 * h);
+    EXPECT_NEAR(grad[i], fd, tolerance * std::abs(fd) + 1e-6) << i;
   }
+}
+
+TEST(ObjectLoss, GradientMatchesFiniteDifferences) {
+  expect_gradient_matches_finite_differences({}, 1e-3);
 }
 
 // The loss and its gradient as the papers write them, one pixel at a time:
@@ -118,23 +123,7 @@ TEST(ObjectLoss, GeneralizedLossEqualsItsPerPixelFormula) {
 }
 
 TEST(ObjectLoss, GeneralizedGradientMatchesFiniteDifferences) {
-  IdMap ids(3, 2);
-  ids.ids = {1, 1, 2, 0, 2, 1};
-  const std::vector<int32_t> labels = {1, 2};
-  std::vector<float> maps = {0.9f,  0.2f, 0.5f, 0.1f, 0.7f,  0.3f,
-                             0.05f, 0.4f, 0.8f, 0.6f, 0.35f, 0.01f};
-  std::vector<float> grad;
-  object_loss(maps, labels, ids, 0.1f, &grad, generalized(0.7));
-  for (size_t i = 0; i < maps.size(); ++i) {
-    std::vector<float> plus = maps, minus = maps;
-    const float h = 1e-3f;
-    plus[i] += h, minus[i] -= h;
-    const double fd = 0.1 *
-                      (object_loss(plus, labels, ids, 1, nullptr, generalized(0.7)) -
-                       object_loss(minus, labels, ids, 1, nullptr, generalized(0.7))) /
-                      (2 * h);
-    EXPECT_NEAR(grad[i], fd, 2e-3 * std::abs(fd) + 1e-6) << i;
-  }
+  expect_gradient_matches_finite_differences(generalized(0.7), 2e-3);
 }
 
 TEST(ObjectLoss, TheDefaultIsThePapersCrossEntropy) {
