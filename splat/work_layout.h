@@ -17,6 +17,7 @@
 //   <work>/query/               op2gs-query: query.json, query.csv
 //   <work>/eval/                op2gs-eval: metrics.json
 //   <work>/report/              op2gs-report: report.html, report.md
+//   <work>/viewer/              op2gs-viewer: the 3D viewer without a report
 
 #include <filesystem>
 #include <string>
@@ -60,6 +61,8 @@ struct WorkLayout {
   // Per Gaussian of the labelled model, in its order: the share of its votes
   // that went to its label (0 without votes); float64, shape (N,).
   std::filesystem::path label_agreement() const { return vote() / "label_agreement.npy"; }
+  // What the vote found: per object its Gaussians, views and name.
+  std::filesystem::path vote_summary() const { return vote() / "summary.json"; }
   TrainingLayout stage_two() const { return {root / "learn"}; }
   std::filesystem::path render() const { return root / "render"; }
   std::filesystem::path embed() const { return root / "embed"; }
@@ -69,6 +72,7 @@ struct WorkLayout {
   std::filesystem::path eval() const { return root / "eval"; }
   std::filesystem::path metrics() const { return eval() / "metrics.json"; }
   std::filesystem::path report() const { return root / "report"; }
+  std::filesystem::path viewer() const { return root / "viewer"; }
 };
 
 }  // namespace splat

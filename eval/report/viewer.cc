@@ -76,9 +76,20 @@ int integer_or(const json& j, const char* key, int otherwise) {
   return it != j.end() && it->is_number_integer() ? int(it->get<int64_t>()) : otherwise;
 }
 
-// Per label: the oracle queries it answers (with their IoU in each method)
-// and the queries query mode chose it for.
-json objects_json(const splat::GaussianModel& m, const json& metrics, const json& queries) {
+// The objects' names in op2gs-vote's summary (from the ID maps' objects.json).
+std::map<int, std::string> object_names(const json& vote_summary) {
+  std::map<int, std::string> names;
+  if (!vote_summary.is_object()) return names;
+  for (const json& o : vote_summary.value("objects", json::array()))
+    if (o.contains("name") && o["name"].is_string()) names[integer_or(o, "id", -1)] = o["name"];
+  return names;
+}
+
+// Per label: its name, the oracle queries it answers (with their IoU in each
+// method) and the queries query mode chose it for.
+json objects_json(const splat::GaussianModel& m, const json& metrics, const json& queries,
+                  const json& vote_summary) {
+  const std::map<int, std::string> names = object_names(vote_summary);
   std::map<int, size_t> counts;
   for (int32_t l : m.labels) ++counts[l];
   std::map<int, json> objects;
@@ -90,6 +101,7 @@ json objects_json(const splat::GaussianModel& m, const json& metrics, const json
         {"color", {std::lround(255 * c[0]), std::lround(255 * c[1]), std::lround(255 * c[2])}},
         {"queries", json::array()},
         {"answers", json::array()}};
+    if (names.count(label)) objects[label]["name"] = names.at(label);
   }
   if (metrics.is_object() && metrics.contains("results")) {
     for (const auto& [method, result] : metrics["results"].items()) {
@@ -185,7 +197,8 @@ fs::path write_viewer(const fs::path& out, const ViewerInput& in) {
                       {"min_instance_opacity", splat::ObjectPlyOptions{}.min_instance_opacity},
                       {"background", {0, 0, 0}},
                       {"cameras", cameras},
-                      {"objects", objects_json(m, metrics, read_json_or_null(in.queries))}};
+                      {"objects", objects_json(m, metrics, read_json_or_null(in.queries),
+                                               read_json_or_null(in.vote_summary))}};
   splat::write_text_atomically(dir / "scene.json", about.dump(1) + "\n");
   return fs::path("viewer") / in.name / "index.html";
 }

@@ -4,9 +4,11 @@
 # distortion, as COLMAP's default SIMPLE_RADIAL has), else the poses of a
 # nerfstudio / instant-ngp transforms.json (its points, or points COLMAP
 # triangulates), else op2gs-sfm makes one with COLMAP (SFM_OPTS="--max-image-size
-# 3200" to find features in phone photos at more than the default 2000 px). There is no ground truth, so the run ends with the renders and masks,
-# and, given queries (QUERIES="red chair;lamp" for every scene, or
-# QUERIES_<scene>), the objects they select (<work>/<scene>/query/query.json).
+# 3200" to find features in phone photos at more than the default 2000 px).
+# There is no ground truth, so the run ends with the renders and masks, the
+# 3D viewer (<work>/<scene>/viewer/), and, given queries (QUERIES="red
+# chair;lamp" for every scene, or QUERIES_<scene>), the objects they select
+# (<work>/<scene>/query/query.json), which the viewer then shows.
 # When op2gs-sfm undistorted the photos, the masks are also written in the
 # photos' own geometry (<work>/<scene>/render/photo/, PHOTO_GEOMETRY), to lay
 # over them.
@@ -22,4 +24,5 @@ MAX_WIDTH ?= 1600
 QUERY_MODE := no
 DATASET_PAPER := other
 DATASET_LAYOUT := photos
-GOALS = $(foreach s,$(SCENES),$(s).render $(if $(QUERIES_$(s)),$(s).embed))
+GOALS = $(foreach s,$(SCENES),$(s).viewer)
+$(foreach s,$(SCENES),$(if $(QUERIES_$(s)),$(eval after_viewer_$(s) := query)))

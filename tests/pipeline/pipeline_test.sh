@@ -97,7 +97,8 @@ grep -q "ramen/test_mask: queries differ from the dataset's list: missing: egg" 
 
 echo "-- photos: a scene without ID maps fails its stage and the others go on (-k);"
 echo "   a scene's own COLMAP model with distortion is undistorted before training,"
-echo "   and its masks are also written in the photos' geometry"
+echo "   its masks are also written in the photos' geometry, and the run ends with"
+echo "   the 3D viewer"
 for s in a b c; do
   "$bin/op2gs-synth" "$tmp/photos/$s" --views 8 --width 96 --height 72 --supersample 1 \
     --points 500 >/dev/null 2>&1
@@ -122,4 +123,13 @@ grep "op2gs: b: stage vote failed" "$tmp/k.log"
 mk "${photos[@]}" a.render c.render > "$tmp/r.log" 2>&1 || { tail -30 "$tmp/r.log"; fail "photos render"; }
 ls "$tmp/prun/c/render/photo/masks/"*/*.png >/dev/null 2>&1 || fail "scene c has no photo-geometry masks"
 [ ! -e "$tmp/prun/a/render/photo" ] || fail "scene a has photo-geometry masks, though its views are its photos"
+# A photos run ends with the 3D viewer (no report: there is nothing to score
+# against), its objects named from the ID maps' objects.json.
+mk "${photos[@]}" a.viewer > "$tmp/v.log" 2>&1 || { tail -30 "$tmp/v.log"; fail "photos viewer"; }
+for f in index.html viewer.js model.spz gaussians.bin model.ply scene.json ../vendor.min.js; do
+  [ -s "$tmp/prun/a/viewer/a/$f" ] || fail "the photos run has no viewer/a/$f"
+done
+grep -q '"name": "red ball"' "$tmp/prun/a/viewer/a/scene.json" ||
+  fail "the viewer does not name the objects of sam2/objects.json"
+[ ! -e "$tmp/prun/a/report" ] || fail "a photos run wrote a report"
 echo "PASS"

@@ -393,7 +393,8 @@ async function main() {
   const describe = (o) =>
     o.label === 0
       ? "background"
-      : [...new Set([...o.queries.map((q) => q.query), ...o.answers])].join(", ") || `object ${o.label}`;
+      : [...new Set([...(o.name ? [o.name] : []), ...o.queries.map((q) => q.query), ...o.answers])].join(", ") ||
+        `object ${o.label}`;
   for (const o of about.objects) {
     const row = document.createElement("div");
     row.dataset.label = o.label;
