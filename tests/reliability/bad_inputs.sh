@@ -169,6 +169,10 @@ case_ predictions-missing 1 "nothere" "" \
   "$bin/op2gs-eval" scene --pred dual=work/nothere --out work/eval/metrics.json
 case_ metrics-malformed 1 "metrics.json: " "echo '{}' > work/eval/metrics.json" \
   "$bin/op2gs-report" --scene s scene work --out work/report --no-figures
+case_ viewer-no-stage-two 1 "latest.ckpt: no stage-two checkpoint" "rm -r work/learn" \
+  "$bin/op2gs-viewer" scene work
+case_ viewer-summary-malformed 1 "summary.json: not valid JSON" "echo '{' > work/vote/summary.json" \
+  "$bin/op2gs-viewer" scene work
 
 echo "-- SfM inputs"
 npy="scene/poses_bounds.npy"
