@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "splat/atomic_file.h"
+#include "splat/binary_io.h"
 #include "splat/error.h"
 
 namespace splat {
@@ -46,67 +47,6 @@ std::optional<CameraModelInfo> camera_model_by_id(int id) {
 
 namespace {
 
-// ---------------------------------------------------------------- binary ---
-
-// Reads little-endian values from a whole file in memory, with bounds checks
-// that turn truncation into an InputError instead of a crash.
-class BinaryReader {
- public:
-  explicit BinaryReader(const fs::path& file) : file_(file), data_(read_text_file(file)) {}
-
-  template <typename T>
-  T read() {
-    need(sizeof(T));
-    T value;
-    std::memcpy(&value, data_.data() + pos_, sizeof(T));
-    pos_ += sizeof(T);
-    return value;
-  }
-  std::string read_cstring() {
-    const size_t end = data_.find('\0', pos_);
-    if (end == std::string::npos) fail("unterminated image name");
-    std::string s = data_.substr(pos_, end - pos_);
-    pos_ = end + 1;
-    return s;
-  }
-  // A count of records of at least min_record_bytes each: reject counts that
-  // cannot fit in the rest of the file before allocating for them.
-  uint64_t read_count(size_t min_record_bytes) {
-    const uint64_t n = read<uint64_t>();
-    if (min_record_bytes > 0 && n > (data_.size() - pos_) / min_record_bytes)
-      fail(fmt::format("count {} does not fit in the file (truncated or corrupt)", n));
-    return n;
-  }
-  void expect_end() {
-    if (pos_ != data_.size())
-      fail(fmt::format("{} unexpected trailing bytes", data_.size() - pos_));
-  }
-  [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(file_, fmt::format("{} (at byte {})", what, pos_));
-  }
-
- private:
-  void need(size_t n) {
-    if (data_.size() - pos_ < n) fail("file is truncated");
-  }
-  fs::path file_;
-  std::string data_;
-  size_t pos_ = 0;
-};
-
-class BinaryWriter {
- public:
-  template <typename T>
-  void write(T value) {
-    buffer_.append(reinterpret_cast<const char*>(&value), sizeof(T));
-  }
-  void write_cstring(const std::string& s) { buffer_.append(s.c_str(), s.size() + 1); }
-  const std::string& bytes() const { return buffer_; }
-
- private:
-  std::string buffer_;
-};
-
 bool all_finite(const std::vector<double>& values) {
   return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
 }
@@ -122,7 +62,7 @@ void check_camera(const ColmapCamera& cam, const fs::path& file) {
 }
 
 std::map<uint32_t, ColmapCamera> read_cameras_bin(const fs::path& file) {
-  BinaryReader in(file);
+  BinaryReader in(file, read_text_file(file));
   std::map<uint32_t, ColmapCamera> cameras;
   const uint64_t n = in.read_count(24);
   for (uint64_t i = 0; i < n; ++i) {
@@ -147,7 +87,7 @@ std::map<uint32_t, ColmapCamera> read_cameras_bin(const fs::path& file) {
 }
 
 std::map<uint32_t, ColmapImage> read_images_bin(const fs::path& file) {
-  BinaryReader in(file);
+  BinaryReader in(file, read_text_file(file));
   std::map<uint32_t, ColmapImage> images;
   const uint64_t n = in.read_count(64);
   for (uint64_t i = 0; i < n; ++i) {
@@ -156,7 +96,7 @@ std::map<uint32_t, ColmapImage> read_images_bin(const fs::path& file) {
     for (int k = 0; k < 4; ++k) im.qvec[k] = in.read<double>();
     for (int k = 0; k < 3; ++k) im.tvec[k] = in.read<double>();
     im.camera_id = in.read<uint32_t>();
-    im.name = in.read_cstring();
+    im.name = in.read_cstring("image name");
     const uint64_t np = in.read_count(24);
     im.points2d.resize(np);
     im.point3d_ids.resize(np);
@@ -176,7 +116,7 @@ std::map<uint32_t, ColmapImage> read_images_bin(const fs::path& file) {
 }
 
 std::map<uint64_t, ColmapPoint3D> read_points3d_bin(const fs::path& file) {
-  BinaryReader in(file);
+  BinaryReader in(file, read_text_file(file));
   std::map<uint64_t, ColmapPoint3D> points;
   const uint64_t n = in.read_count(43);
   for (uint64_t i = 0; i < n; ++i) {

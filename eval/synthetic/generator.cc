@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
-#include <unistd.h>
 
 #include <atomic>
 #include <cmath>
@@ -475,28 +474,13 @@ void write_capture(const fs::path& dir, const SynthOptions& o, const SceneLayout
   splat::write_text_atomically(dir / "sparse_pc.ply", ply);
 }
 
-// Builds a folder under a temporary name and swaps it into place.
-void replace_dir(const fs::path& tmp, const fs::path& out, bool force) {
-  if (fs::exists(out)) {
-    if (!force) {
-      fs::remove_all(tmp);
-      throw std::runtime_error(out.string() + ": already exists (use --force to replace it)");
-    }
-    const fs::path old = fs::path(out.string() + ".old-" + std::to_string(::getpid()));
-    fs::rename(out, old);
-    fs::rename(tmp, out);
-    fs::remove_all(old);
-  } else {
-    fs::rename(tmp, out);
-  }
-}
-
 }  // namespace
 
 void generate_scene(const SynthOptions& o, const fs::path& out_dir, bool force) {
   o.Check();
-  if (fs::exists(out_dir) && !force)
-    throw std::runtime_error(out_dir.string() + ": already exists (use --force to replace it)");
+  for (const fs::path& dir : {out_dir, o.ovs_dir})
+    if (!dir.empty() && fs::exists(dir) && !force)
+      throw std::runtime_error(dir.string() + ": already exists (use --force to replace it)");
   SceneLayout layout = default_layout(o.seed);
   layout.specular = o.capture.specular;
   spdlog::info("rendering {} views at {}x{} ({}x{} samples per pixel)", o.views, o.width, o.height,
@@ -510,25 +494,20 @@ void generate_scene(const SynthOptions& o, const fs::path& out_dir, bool force) 
       apply_track_errors(sam2, r.instance_maps, ids, o.tracks, o.seed);
   if (!switched.empty()) spdlog::info("{} track IDs switched", switched.size());
 
-  const fs::path abs_out = fs::absolute(out_dir).lexically_normal();
-  const fs::path tmp = abs_out.parent_path() /
-                       fmt::format(".{}.partial-{}", abs_out.filename().string(), ::getpid());
-  fs::remove_all(tmp);
+  // Each folder is built aside and swapped in whole (--force replaces it).
   spdlog::info("writing the scene to {}", out_dir.string());
+  splat::StagedFolder scene(out_dir, splat::StagedFolder::Target::kOwned);
   if (o.shipping == Shipping::kNerfstudio || o.shipping == Shipping::kInstantNgp)
-    write_capture(tmp, o, layout, r, sam2);
+    write_capture(scene.path(), o, layout, r, sam2);
   else
-    write_layout(tmp, o, layout, r, sam2);
-  replace_dir(tmp, abs_out, force);
+    write_layout(scene.path(), o, layout, r, sam2);
+  scene.commit();
 
   if (!o.ovs_dir.empty()) {
-    const fs::path ovs = fs::absolute(o.ovs_dir).lexically_normal();
-    const fs::path ovs_tmp =
-        ovs.parent_path() / fmt::format(".{}.partial-{}", ovs.filename().string(), ::getpid());
-    fs::remove_all(ovs_tmp);
     spdlog::info("writing the 3DOVS layout to {}", o.ovs_dir.string());
-    write_ovs_layout(ovs_tmp, r, sam2, layout, o.ovs_test_views, o.ovs_prepared);
-    replace_dir(ovs_tmp, ovs, force);
+    splat::StagedFolder ovs(o.ovs_dir, splat::StagedFolder::Target::kOwned);
+    write_ovs_layout(ovs.path(), r, sam2, layout, o.ovs_test_views, o.ovs_prepared);
+    ovs.commit();
   }
 }
 

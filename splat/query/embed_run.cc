@@ -13,7 +13,7 @@
 #include "splat/checkpoint.h"
 #include "splat/clip/clip_model.h"
 #include "splat/error.h"
-#include "splat/query/json_integer.h"
+#include "splat/json_integer.h"
 #include "splat/render/renderer.h"
 
 namespace splat {

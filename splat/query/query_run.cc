@@ -10,7 +10,7 @@
 #include "splat/clip/tokenizer.h"
 #include "splat/error.h"
 #include "splat/query/embed_run.h"
-#include "splat/query/json_integer.h"
+#include "splat/json_integer.h"
 
 namespace splat {
 namespace fs = std::filesystem;

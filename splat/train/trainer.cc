@@ -18,6 +18,15 @@
 namespace splat {
 namespace fs = std::filesystem;
 
+namespace {
+// The reference's get_expon_lr_func: log-linear from init at iteration 0 to
+// final at the end of the schedule. Every decaying learning rate uses it.
+double log_linear_decay(int iteration, int total_iterations, float init, float final) {
+  const double t = std::clamp(double(iteration) / total_iterations, 0.0, 1.0);
+  return std::exp((1 - t) * std::log(init) + t * std::log(final));
+}
+}  // namespace
+
 void PoseRefinementOptions::Check() const {
   if (from_iteration < 1) throw std::invalid_argument("pose refinement must start at >= 1");
   for (float lr : {lr_rotation_init, lr_rotation_final, lr_translation_init, lr_translation_final})
@@ -149,11 +158,9 @@ void Trainer::read_protection() {
 }
 
 float Trainer::position_learning_rate(int iteration) const {
-  // The reference's get_expon_lr_func: log-linear from init to final.
-  const double t = std::clamp(double(iteration) / options_.total_iterations, 0.0, 1.0);
-  const double lr = std::exp(std::log(options_.lr_position_init) * (1 - t) +
-                             std::log(options_.lr_position_final) * t);
-  return float(lr * extent_);
+  return float(log_linear_decay(iteration, options_.total_iterations, options_.lr_position_init,
+                                options_.lr_position_final) *
+               extent_);
 }
 
 size_t Trainer::next_view() {
@@ -217,9 +224,9 @@ void Trainer::train_until(int until,
                                          o.object_loss.weight, &out_grads_.instance_maps,
                                          o.object_loss.pixel_loss);
     else if (objects)
-      st.object_loss = object_loss(render_out_.instance_maps, render_out_.instance_map_labels,
-                                   objects->ids, o.object_loss.weight, &out_grads_.instance_maps,
-                                   o.object_loss.pixel_loss);
+      st.object_loss =
+          object_loss(render_out_.instance_maps, render_out_.instance_map_labels, objects->ids,
+                      o.object_loss.weight, &out_grads_.instance_maps, o.object_loss.pixel_loss);
     else
       out_grads_.instance_maps.clear();
     if (!std::isfinite(st.loss.total) || !std::isfinite(st.object_loss))
@@ -318,15 +325,13 @@ bool all_finite(const GaussianModel& m) {
 
 float Trainer::exposure_learning_rate(int iteration) const {
   const ExposureOptions& e = options_.exposure;
-  const double t = std::clamp(double(iteration) / options_.total_iterations, 0.0, 1.0);
-  return float(std::exp((1 - t) * std::log(e.lr_init) + t * std::log(e.lr_final)));
+  return float(log_linear_decay(iteration, options_.total_iterations, e.lr_init, e.lr_final));
 }
 
 PoseStep Trainer::pose_learning_rate(int iteration) const {
   const PoseRefinementOptions& p = options_.poses;
-  const double t = std::clamp(double(iteration) / options_.total_iterations, 0.0, 1.0);
-  auto decay = [t](float init, float final) {
-    return std::exp((1 - t) * std::log(init) + t * std::log(final));
+  auto decay = [&](float init, float final) {
+    return log_linear_decay(iteration, options_.total_iterations, init, final);
   };
   return {float(decay(p.lr_rotation_init, p.lr_rotation_final)),
           float(decay(p.lr_translation_init, p.lr_translation_final) * extent_)};
