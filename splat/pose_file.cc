@@ -1,6 +1,7 @@
 #include "splat/pose_file.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <cmath>
 #include <fstream>
@@ -50,6 +51,18 @@ void write_pose_file(const std::filesystem::path& file, const std::vector<NamedP
                         q[2], q[3], p.t[0], p.t[1], p.t[2], p.name);
   }
   write_text_atomically(file, text);
+}
+
+std::filesystem::path choose_pose_file(const std::string& option,
+                                       const std::vector<std::filesystem::path>& defaults) {
+  if (option == "none") return {};
+  if (!option.empty()) return option;
+  for (const auto& file : defaults)
+    if (std::filesystem::exists(file)) {
+      spdlog::info("using the refined camera poses of {}", file.string());
+      return file;
+    }
+  return {};
 }
 
 }  // namespace splat

@@ -27,4 +27,11 @@ std::vector<NamedPose> read_pose_file(const std::filesystem::path& file);
 // Written atomically.
 void write_pose_file(const std::filesystem::path& file, const std::vector<NamedPose>& poses);
 
+// The pose file a stage uses (its --poses option): the one given, none for
+// "none", else the first of the refined pose files an earlier stage may have
+// written that exists (WorkLayout::refined_poses_of_*, logged), else none (the
+// COLMAP model's poses).
+std::filesystem::path choose_pose_file(const std::string& option,
+                                       const std::vector<std::filesystem::path>& defaults);
+
 }  // namespace splat

@@ -21,6 +21,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace splat {
 
@@ -55,6 +56,15 @@ struct WorkLayout {
   std::filesystem::path sfm() const { return root / "sfm"; }
   std::filesystem::path sfm_scene() const { return sfm() / "scene"; }
   TrainingLayout stage_one() const { return {root}; }
+  // The refined poses that go with each stage's model, in order of
+  // preference (splat::choose_pose_file): stage two's model was trained on
+  // stage two's poses if it refined them, else on stage one's.
+  std::vector<std::filesystem::path> refined_poses_of_stage_one_model() const {
+    return {stage_one().refined_poses()};
+  }
+  std::vector<std::filesystem::path> refined_poses_of_stage_two_model() const {
+    return {stage_two().refined_poses(), stage_one().refined_poses()};
+  }
   std::filesystem::path vote() const { return root / "vote"; }
   // The stage-one model with one label per Gaussian.
   std::filesystem::path labelled_model() const { return vote() / "point_cloud.ply"; }

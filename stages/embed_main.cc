@@ -3,13 +3,15 @@
 
 #include <chrono>
 
+#include "splat/clip/clip_model.h"
+#include "splat/pose_file.h"
 #include "splat/query/embed_run.h"
 #include "stages/common.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Embed every object of an OP2GS model with CLIP (masked crops, N views)."};
   splat::EmbedRunOptions o;
-  std::string scene, work, model, out, split = "auto", clip = stages::default_clip_dir();
+  std::string scene, work, model, out, split = "auto", clip = splat::default_clip_dir().string();
   std::vector<float> background;
   int threads = 0;
   app.add_option("scene", scene, "scene folder")->required();
@@ -40,17 +42,16 @@ int main(int argc, char** argv) {
   return stages::run_stage(app, argc, argv, [&] {
     const stages::ThreadLimit limit(threads);
     const splat::WorkLayout w{work};
-    o.scene.poses = stages::resolve_poses(
-        poses, {w.stage_two().refined_poses(), w.stage_one().refined_poses()});
+    o.scene.poses = splat::choose_pose_file(poses, w.refined_poses_of_stage_two_model());
     o.model = stages::or_default(model, w.stage_two().latest_checkpoint());
     o.clip_dir = clip;
     o.split = stages::parse_split(split);
     if (!background.empty()) std::copy_n(background.begin(), 3, o.crop_background.begin());
     const std::filesystem::path dir = stages::or_default(out, w.embed());
     const auto start = std::chrono::steady_clock::now();
-    splat::StagedFolder outputs(dir, stages::staged_target(out));
-    const splat::ObjectEmbeddings e = splat::run_embed(scene, outputs.path(), o);
-    outputs.commit();
+    const splat::ObjectEmbeddings e = stages::write_staged(
+        out, w.embed(),
+        [&](const std::filesystem::path& to) { return splat::run_embed(scene, to, o); });
     size_t crops = 0;
     for (const auto& obj : e.objects) crops += obj.views.size();
     spdlog::info("{} objects embedded from {} crops in {:.1f} s; outputs in {}", e.objects.size(),

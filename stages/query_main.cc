@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "eval/run/eval_run.h"
+#include "splat/clip/clip_model.h"
 #include "splat/error.h"
 #include "splat/query/query_run.h"
 #include "stages/common.h"
@@ -27,7 +28,7 @@ std::vector<std::string> read_lines(const std::string& file) {
 int main(int argc, char** argv) {
   CLI::App app{"Select the object of each text query by CLIP similarity."};
   splat::QueryRunOptions o;
-  std::string work, embeddings, out, queries_file, scene, clip = stages::default_clip_dir();
+  std::string work, embeddings, out, queries_file, scene, clip = splat::default_clip_dir().string();
   std::vector<std::string> templates;
   app.add_option("work", work, "work folder; reads <work>/embed/, writes <work>/query/")
       ->required();
@@ -51,9 +52,8 @@ int main(int argc, char** argv) {
     o.embeddings = stages::or_default(embeddings, w.embeddings());
     o.clip_dir = clip;
     const std::filesystem::path dir = stages::or_default(out, w.query());
-    splat::StagedFolder outputs(dir, stages::staged_target(out));
-    const splat::QueryResults r = splat::run_query(outputs.path(), o);
-    outputs.commit();
+    const splat::QueryResults r = stages::write_staged(
+        out, w.query(), [&](const std::filesystem::path& to) { return splat::run_query(to, o); });
     size_t width = 5;
     for (const auto& a : r.answers) width = std::max(width, a.query.size());
     fmt::print("{:<{}}  object  similarity\n", "query", width);

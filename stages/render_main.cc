@@ -3,6 +3,7 @@
 
 #include "splat/label/object_ply.h"
 #include "splat/label/render_run.h"
+#include "splat/pose_file.h"
 #include "stages/common.h"
 
 int main(int argc, char** argv) {
@@ -50,8 +51,7 @@ int main(int argc, char** argv) {
   return stages::run_stage(app, argc, argv, [&] {
     const stages::ThreadLimit limit(threads);
     const splat::WorkLayout w{work};
-    o.scene.poses = stages::resolve_poses(
-        poses, {w.stage_two().refined_poses(), w.stage_one().refined_poses()});
+    o.scene.poses = splat::choose_pose_file(poses, w.refined_poses_of_stage_two_model());
     o.model = stages::or_default(model, w.stage_two().latest_checkpoint());
     if (ply_object || ply_without) {
       ply.model = o.model;
@@ -75,9 +75,9 @@ int main(int argc, char** argv) {
                                                         {"auto", splat::PhotoGeometryMode::kAuto}});
     if (!background.empty()) std::copy_n(background.begin(), 3, o.background);
     const std::filesystem::path dir = stages::or_default(out, w.render());
-    splat::StagedFolder outputs(dir, stages::staged_target(out));
-    const splat::RenderTiming t = splat::run_render(scene, outputs.path(), o);
-    outputs.commit();
+    const splat::RenderTiming t = stages::write_staged(
+        out, w.render(),
+        [&](const std::filesystem::path& to) { return splat::run_render(scene, to, o); });
     spdlog::info(
         "{} views: colour {:.1f} ms, all-object masks {:.1f} ms ({:.2f}x), instance "
         "label map {:.1f} ms per view",

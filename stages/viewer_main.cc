@@ -29,9 +29,8 @@ int main(int argc, char** argv) {
     in.queries = work.query_results();
     in.vote_summary = work.vote_summary();
     const fs::path target = stages::or_default(out, work.viewer());
-    splat::StagedFolder staged(target, stages::staged_target(out));
-    eval::write_viewer(staged.path(), in);
-    staged.commit();
+    stages::write_staged(out, work.viewer(),
+                         [&](const fs::path& to) { eval::write_viewer(to, in); });
     const fs::path served = target.parent_path();
     spdlog::info("viewer: {}", (target / in.name / "index.html").string());
     spdlog::info(

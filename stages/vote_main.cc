@@ -2,6 +2,7 @@
 // the scene's ID maps (SAM2 masks), and render the ablation's baseline masks.
 
 #include "splat/label/vote_run.h"
+#include "splat/pose_file.h"
 #include "stages/common.h"
 
 int main(int argc, char** argv) {
@@ -47,15 +48,15 @@ int main(int argc, char** argv) {
   return stages::run_stage(app, argc, argv, [&] {
     const stages::ThreadLimit limit(threads);
     const splat::WorkLayout w{work};
-    o.scene.poses = stages::resolve_poses(poses, {w.stage_one().refined_poses()});
+    o.scene.poses = splat::choose_pose_file(poses, w.refined_poses_of_stage_one_model());
     o.model = stages::or_default(model, w.stage_one().latest_checkpoint());
     o.split = stages::parse_split(split);
     o.vote.visibility = stages::parse_choice<splat::VoteVisibility>(
         "--visibility", visibility,
         {{"depth", splat::VoteVisibility::kDepth}, {"frustum", splat::VoteVisibility::kFrustum}});
-    splat::StagedFolder outputs(w.vote(), splat::StagedFolder::Target::kOwned);
-    const splat::VoteRunResult r = splat::run_voting(scene, outputs.path(), o);
-    outputs.commit();
+    const splat::VoteRunResult r = stages::write_staged(
+        "", w.vote(),
+        [&](const std::filesystem::path& to) { return splat::run_voting(scene, to, o); });
     spdlog::info(
         "{} Gaussians labelled from {} views: {} objects, {:.1f}% background "
         "({:.1f}% seen in no view), vote agreement {:.1f}%, {:.1f} s",

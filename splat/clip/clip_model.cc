@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -224,6 +225,12 @@ RowMatrix patches_of(const ClipPixels& pixels, int patch) {
 }
 
 }  // namespace
+
+fs::path default_clip_dir() {
+  if (const char* dir = std::getenv("OP2GS_CLIP_DIR"); dir && *dir) return dir;
+  const char* home = std::getenv("HOME");
+  return fs::path(home ? home : ".") / ".cache/op2gs/clip-vit-base-patch16";
+}
 
 ClipFiles ClipFiles::in(const fs::path& dir) {
   ClipFiles f{dir / "model.safetensors", dir / "config.json", dir / "vocab.json",

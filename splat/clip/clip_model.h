@@ -34,6 +34,11 @@ struct ClipFiles {
   static ClipFiles in(const std::filesystem::path& dir);
 };
 
+// Where the CLIP files are when no folder is named (op2gs-embed and
+// op2gs-query without --clip): $OP2GS_CLIP_DIR, else
+// ~/.cache/op2gs/clip-vit-base-patch16, where scripts/get_clip.sh puts them.
+std::filesystem::path default_clip_dir();
+
 using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 // One pre-norm transformer block's weights. Linear weights are (out, in), as
