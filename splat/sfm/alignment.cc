@@ -3,9 +3,11 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #include "splat/camera.h"
+#include "splat/error.h"
 
 namespace splat {
 
@@ -54,6 +56,18 @@ PoseAccuracy pose_accuracy(const ColmapModel& estimated, const ColmapModel& trut
   acc.center_rmse = std::sqrt(sq / double(from.size()));
   acc.rotation_error_deg = angle / double(from.size()) * 180.0 / M_PI;
   return acc;
+}
+
+PoseAccuracy pose_accuracy_against(const ColmapModel& estimated,
+                                   const std::filesystem::path& truth_model) {
+  const ColmapModel truth = read_colmap_model(truth_model);
+  std::set<std::string> true_names;
+  for (const auto& [id, image] : truth.images) true_names.insert(image.name);
+  size_t shared = 0;
+  for (const auto& [id, image] : estimated.images) shared += true_names.count(image.name);
+  if (shared < 3)
+    throw InputError(truth_model, "the true model shares fewer than 3 image names with the scene");
+  return pose_accuracy(estimated, truth);
 }
 
 }  // namespace splat

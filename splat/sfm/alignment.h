@@ -5,6 +5,7 @@
 // errors left after it.
 
 #include <Eigen/Core>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -34,5 +35,11 @@ struct PoseAccuracy {
 // Matches the images of both models by name and aligns the estimated camera
 // centres to the true ones.
 PoseAccuracy pose_accuracy(const ColmapModel& estimated, const ColmapModel& truth);
+
+// The same against the model in `truth_model` (op2gs-sfm --truth). Throws
+// InputError naming it when it shares fewer than 3 image names with
+// `estimated`.
+PoseAccuracy pose_accuracy_against(const ColmapModel& estimated,
+                                   const std::filesystem::path& truth_model);
 
 }  // namespace splat

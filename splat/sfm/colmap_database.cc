@@ -51,4 +51,21 @@ std::map<std::string, DatabaseImage> read_database_images(const std::filesystem:
   return images;
 }
 
+ColmapModel with_database_ids(const ColmapModel& model, const std::filesystem::path& db) {
+  const auto ids = read_database_images(db);
+  ColmapModel out;
+  for (const auto& [id, image] : model.images) {
+    const auto it = ids.find(image.name);
+    if (it == ids.end()) throw InputError(db, "the database has no image " + image.name);
+    ColmapImage copy = image;
+    copy.image_id = it->second.image_id;
+    copy.camera_id = it->second.camera_id;
+    ColmapCamera camera = model.cameras.at(image.camera_id);
+    camera.camera_id = copy.camera_id;
+    out.cameras[camera.camera_id] = camera;
+    out.images[copy.image_id] = copy;
+  }
+  return out;
+}
+
 }  // namespace splat

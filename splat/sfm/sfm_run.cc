@@ -18,10 +18,13 @@
 #include "splat/image.h"
 #include "splat/photo_cameras.h"
 #include "splat/sfm/alignment.h"
+#include "splat/sfm/colmap_arguments.h"
 #include "splat/sfm/colmap_database.h"
 #include "splat/sfm/llff.h"
+#include "splat/sfm/photo_checks.h"
+#include "splat/sfm/resumable_steps.h"
+#include "splat/sfm/scene_folder.h"
 #include "splat/sfm/transforms_json.h"
-#include "splat/sfm/undistort_id_maps.h"
 
 namespace splat {
 namespace fs = std::filesystem;
@@ -48,55 +51,11 @@ void SfmOptions::Check() const {
 
 namespace {
 
-bool is_image(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-  return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" || ext == ".tiff";
-}
-
-std::vector<std::string> image_names(const fs::path& dir) {
-  if (!fs::is_directory(dir)) throw InputError(dir, "no image folder");
-  std::vector<std::string> names;
-  for (const auto& f : fs::directory_iterator(dir))
-    if (f.is_regular_file() && is_image(f.path())) names.push_back(f.path().filename().string());
-  std::sort(names.begin(), names.end());
-  if (names.size() < 2) throw InputError(dir, "SfM needs at least two images");
-  return names;
-}
-
-// Each finished step leaves a marker holding a fingerprint of its inputs and
-// options; a rerun with the same fingerprint skips the step.
-class Steps {
- public:
-  explicit Steps(fs::path out) : out_(std::move(out)) {}
-  // Runs `body` unless the step finished with this fingerprint. Returns true
-  // if it ran (so later steps must rerun too).
-  bool run(const std::string& step, const std::string& fingerprint, bool force,
-           const std::function<void()>& body) {
-    const fs::path marker = out_ / (".done_" + step);
-    if (!force && fs::exists(marker) && read_text_file(marker) == fingerprint) {
-      spdlog::info("{}: done before, reused", step);
-      return false;
-    }
-    fs::remove(marker);
-    spdlog::info("{} ...", step);
-    body();
-    write_text_atomically(marker, fingerprint);
-    return true;
-  }
-
- private:
-  fs::path out_;
-};
-
 // colmap_has_cuda: what ColmapCommand::available found.
 bool want_gpu(const SfmOptions& o, bool colmap_has_cuda) {
   if (o.gpu != SfmOptions::Gpu::kAuto) return o.gpu == SfmOptions::Gpu::kOn;
   return colmap_has_cuda && fs::exists("/dev/nvidia0");
 }
-
-// "1,2.5,3": COLMAP's list syntax for camera parameters.
-std::string join(const std::vector<double>& v) { return fmt::format("{}", fmt::join(v, ",")); }
 
 // The model with the most registered images, and its index (-1 if there is
 // no model).
@@ -117,49 +76,6 @@ bool is_pinhole(const ColmapModel& m) {
   return true;
 }
 
-// Links everything else the user's scene folder holds (ID maps, the
-// LERF-Mask and 3DOVS benchmark files) into the output scene, so the next
-// stages find it there. The user's downscaled copies (images_2/ ...) are
-// linked only when the views were not undistorted: they have the photos'
-// geometry.
-void link_user_files(const fs::path& user, const fs::path& scene, const std::string& images,
-                     bool undistorted) {
-  // distorted/ and stereo/ are COLMAP's leftovers in the LERF-Mask download.
-  std::set<std::string> own = {images, "sparse", "distorted", "stereo"};
-  if (undistorted) own.insert({"images_2", "images_4", "images_8"});
-  for (const auto& f : fs::directory_iterator(user)) {
-    const std::string name = f.path().filename().string();
-    if (own.count(name) || fs::exists(fs::symlink_status(scene / name))) continue;
-    fs::create_symlink(fs::absolute(f.path()), scene / name);
-  }
-}
-
-// The ID maps of the user's photos, resampled as COLMAP undistorted the
-// photos (the undistorted views are cropped and re-centred). Always redone:
-// it is quick, and the user may have replaced the maps since the last run.
-void undistort_user_id_maps(const fs::path& user, const fs::path& scene,
-                            const ColmapModel& distorted, const SfmOptions& o) {
-  const ColmapModel undistorted = read_colmap_model(scene / "sparse" / "0");
-  for (const std::string& folder : o.id_map_dirs) {
-    if (!fs::is_directory(user / folder)) continue;
-    const size_t n = undistort_id_map_folder(user / folder, scene / folder, distorted, undistorted);
-    spdlog::info("{}/: {} ID maps undistorted with the images", folder, n);
-  }
-  for (const char* truth : {"test_mask", "segmentations"})
-    if (fs::exists(user / truth))
-      spdlog::warn(
-          "{}/ is linked as it is: its masks have the geometry of the original photos; "
-          "op2gs-eval resamples the renders into it ({}/)",
-          truth, kPhotoCamerasDir);
-}
-
-// The cameras and poses of a model, without its points and observations.
-ColmapModel cameras_only(ColmapModel model) {
-  model.points3d.clear();
-  for (auto& [id, image] : model.images) image.points2d.clear(), image.point3d_ids.clear();
-  return model;
-}
-
 // A model given with --import: every image it names must be in the scene's
 // image folder, or the undistorter and the trainer would fail later.
 ColmapModel read_imported_model(const fs::path& model_dir, const fs::path& images) {
@@ -172,38 +88,15 @@ ColmapModel read_imported_model(const fs::path& model_dir, const fs::path& image
   return model;
 }
 
-// Replaces `link` with a symbolic link to `target`.
-void relink(const fs::path& target, const fs::path& link) {
-  fs::remove_all(link);
-  fs::create_directories(link.parent_path());
-  fs::create_directory_symlink(fs::absolute(target), link);
-}
-
-// The model with the image and camera IDs the database gave its images (the
-// feature extractor numbers them in the order its threads finish).
-ColmapModel with_database_ids(const ColmapModel& model, const fs::path& db) {
-  const auto ids = read_database_images(db);
-  ColmapModel out;
-  for (const auto& [id, image] : model.images) {
-    const auto it = ids.find(image.name);
-    if (it == ids.end()) throw InputError(db, "the database has no image " + image.name);
-    ColmapImage copy = image;
-    copy.image_id = it->second.image_id;
-    copy.camera_id = it->second.camera_id;
-    ColmapCamera camera = model.cameras.at(image.camera_id);
-    camera.camera_id = copy.camera_id;
-    out.cameras[camera.camera_id] = camera;
-    out.images[copy.image_id] = copy;
-  }
-  return out;
-}
-
 // One SfM run in named steps, as COLMAP's AutomaticReconstructionController
 // orders its own: import, or feature extraction, matching and mapping (or
 // triangulation for known poses); then the largest model is kept,
 // undistorted into the scene the trainer reads, and summarised. The steps
 // share this context; each that runs COLMAP is skipped on a rerun with the
-// same fingerprint (Steps), and any that runs makes the later ones run.
+// same fingerprint (ResumableSteps), and any that runs makes the later ones
+// run. Building COLMAP's command lines (colmap_arguments.h), checking the
+// photos (photo_checks.h) and assembling the scene folder (scene_folder.h)
+// are each in a file of their own.
 class SfmController {
  public:
   SfmController(const fs::path& scene_dir, const fs::path& out, const SfmOptions& options)
@@ -213,7 +106,7 @@ class SfmController {
     remove_abandoned_temporaries(out_);
     o_.colmap.log_file = out_ / "colmap.log";
     images_ = user_ / o_.images_dir;
-    names_ = image_names(images_);
+    names_ = photo_names(images_);
     check_photos();
     if (is_transforms_json(o_.import_model))
       read_capture();
@@ -241,48 +134,22 @@ class SfmController {
   }
 
  private:
-  // Every photo's header: EXIF-rotated photos are refused (COLMAP, SAM2 and
-  // the trainer would not agree on which way is up); photos of several sizes
-  // (portrait and landscape mixed) cannot share one camera.
+  // Photos stored turned are refused (photo_checks.h); photos of several
+  // sizes (portrait and landscape mixed) cannot share one camera; COLMAP
+  // reads 8-bit copies of 16-bit photos.
   void check_photos() {
-    std::set<std::pair<int, int>> sizes;
-    bool deep = false;
-    for (const std::string& name : names_) {
-      const ImageInfo info = read_image_info(images_ / name);
-      deep |= info.bits > 8;
-      if (info.orientation != 1)
-        throw InputError(images_ / name,
-                         fmt::format("EXIF orientation {} (the photo is stored turned or "
-                                     "mirrored): store the photos upright first, e.g. `exiftran "
-                                     "-ai *.jpg` or `mogrify -auto-orient *.jpg`, and make the ID "
-                                     "maps from the upright photos",
-                                     info.orientation));
-      sizes.insert({info.width, info.height});
-    }
-    if (sizes.size() > 1 && o_.single_camera && o_.intrinsics.empty() && o_.import_model.empty() &&
+    const PhotoHeaders headers = check_photo_headers(images_, names_);
+    if (headers.sizes > 1 && o_.single_camera && o_.intrinsics.empty() && o_.import_model.empty() &&
         !o_.llff) {
       spdlog::warn(
           "the photos have {} different sizes (portrait and landscape mixed?): one "
           "camera per photo instead of one shared camera",
-          sizes.size());
+          headers.sizes);
       o_.single_camera = false;
     }
-    if (deep) use_eight_bit_copies();
-  }
-
-  // COLMAP 3.8 cannot read 16-bit PNGs: it gets 8-bit copies (the views the
-  // trainer reads are 8-bit too once COLMAP undistorts them, as 3DGS's are).
-  // Copies are remade only when a photo is newer.
-  void use_eight_bit_copies() {
+    if (!headers.deeper_than_8_bits) return;
     const fs::path copies = out_ / "images_8bit";
-    fs::create_directories(copies);
-    size_t made = 0;
-    for (const std::string& name : names_) {
-      const fs::path from = images_ / name, to = copies / name;
-      if (fs::exists(to) && fs::last_write_time(to) >= fs::last_write_time(from)) continue;
-      write_image_rgb(to, read_image_rgb(from));
-      ++made;
-    }
+    const size_t made = make_eight_bit_copies(images_, names_, copies);
     spdlog::info("16-bit photos: COLMAP reads 8-bit copies in {} ({} made)", copies.string(), made);
     images_ = copies;
   }
@@ -357,8 +224,8 @@ class SfmController {
   static std::string model_fingerprint(const ColmapModel& m) {
     std::string f;
     for (const auto& [id, c] : m.cameras)
-      f +=
-          fmt::format("camera {} {} {}x{} {}\n", id, c.model_id, c.width, c.height, join(c.params));
+      f += fmt::format("camera {} {} {}x{} {}\n", id, c.model_id, c.width, c.height,
+                       colmap_list(c.params));
     for (const auto& [id, i] : m.images)
       f += fmt::format("image {} {} {:.12g} {:.12g}\n", i.name, i.camera_id,
                        fmt::join(i.qvec.data(), i.qvec.data() + 4, " "),
@@ -369,7 +236,7 @@ class SfmController {
   void run_sfm_steps() {
     const bool known = !o_.intrinsics.empty();
     fp_ += fmt::format("camera {} single {} known {}\n", known ? "PINHOLE" : o_.camera_model,
-                       o_.single_camera, join(o_.intrinsics));
+                       o_.single_camera, colmap_list(o_.intrinsics));
     step("feature extraction", [&] {
       run_feature_extraction(known ? "PINHOLE" : o_.camera_model, o_.intrinsics,
                              o_.single_camera || known, {});
@@ -384,27 +251,13 @@ class SfmController {
   void run_feature_extraction(const std::string& model, const std::vector<double>& params,
                               bool single_camera, const std::vector<std::string>& only) {
     fs::remove(database());
-    std::vector<std::string> args = {"--database_path",
-                                     database().string(),
-                                     "--image_path",
-                                     images_.string(),
-                                     "--ImageReader.single_camera",
-                                     single_camera ? "1" : "0",
-                                     "--ImageReader.camera_model",
-                                     model,
-                                     "--SiftExtraction.use_gpu",
-                                     gpu_ ? "1" : "0",
-                                     "--SiftExtraction.max_image_size",
-                                     std::to_string(o_.max_image_size)};
-    if (!params.empty()) args.insert(args.end(), {"--ImageReader.camera_params", join(params)});
+    FeatureExtraction e{database(), images_,           model,     params, single_camera, {},
+                        gpu_,       o_.max_image_size, o_.threads};
     if (!only.empty()) {
-      const fs::path list = out_ / "image_list.txt";
-      write_text_atomically(list, fmt::format("{}\n", fmt::join(only, "\n")));
-      args.insert(args.end(), {"--image_list_path", list.string()});
+      e.image_list = out_ / "image_list.txt";
+      write_text_atomically(e.image_list, fmt::format("{}\n", fmt::join(only, "\n")));
     }
-    if (o_.threads)
-      args.insert(args.end(), {"--SiftExtraction.num_threads", std::to_string(o_.threads)});
-    o_.colmap.run("feature extraction", "feature_extractor", args);
+    o_.colmap.run("feature extraction", "feature_extractor", feature_extractor_arguments(e));
     const size_t read = read_database_images(database()).size();
     const size_t wanted = only.empty() ? names_.size() : only.size();
     if (read < wanted)
@@ -426,23 +279,8 @@ class SfmController {
   }
 
   void run_matching() {
-    std::vector<std::string> args = {"--database_path", database().string(),
-                                     "--SiftMatching.use_gpu", gpu_ ? "1" : "0"};
-    if (sequential()) {
-      args.insert(args.end(),
-                  {"--SequentialMatching.overlap", std::to_string(o_.sequential_overlap),
-                   "--SequentialMatching.loop_detection", o_.vocab_tree.empty() ? "0" : "1"});
-      if (!o_.vocab_tree.empty())
-        args.insert(args.end(), {"--SequentialMatching.vocab_tree_path", o_.vocab_tree.string()});
-    }
-    o_.colmap.run("matching", sequential() ? "sequential_matcher" : "exhaustive_matcher", args);
-  }
-
-  // Bundle adjustment leaves known intrinsics as they are.
-  static void add_fixed_intrinsics(std::vector<std::string>& args) {
-    args.insert(args.end(),
-                {"--Mapper.ba_refine_focal_length", "0", "--Mapper.ba_refine_principal_point", "0",
-                 "--Mapper.ba_refine_extra_params", "0"});
+    const Matching m{database(), sequential(), o_.sequential_overlap, o_.vocab_tree, gpu_};
+    o_.colmap.run("matching", matcher_command(m), matcher_arguments(m));
   }
 
   void run_triangulation(const ColmapModel& known) {
@@ -457,22 +295,16 @@ class SfmController {
     fs::create_directories(raw() / "0");
     write_colmap_model(with_database_ids(known, database()), out_ / "llff_model",
                        ColmapFormat::kText);
-    std::vector<std::string> args = {"--database_path", database().string(),
-                                     "--image_path",    images_.string(),
-                                     "--input_path",    (out_ / "llff_model").string(),
-                                     "--output_path",   (raw() / "0").string()};
-    add_fixed_intrinsics(args);
-    o_.colmap.run("triangulation", "point_triangulator", args);
+    o_.colmap.run(
+        "triangulation", "point_triangulator",
+        point_triangulator_arguments(database(), images_, out_ / "llff_model", raw() / "0"));
   }
 
   void run_mapping(bool known_intrinsics) {
     fs::remove_all(raw());
     fs::create_directories(raw());
-    std::vector<std::string> args = {"--database_path", database().string(), "--image_path",
-                                     images_.string(),  "--output_path",     raw().string()};
-    if (known_intrinsics) add_fixed_intrinsics(args);
-    if (o_.threads) args.insert(args.end(), {"--Mapper.num_threads", std::to_string(o_.threads)});
-    o_.colmap.run("mapping", "mapper", args);
+    o_.colmap.run("mapping", "mapper",
+                  mapper_arguments(database(), images_, raw(), known_intrinsics, o_.threads));
   }
 
   // The model with the most registered views; fails when too few registered.
@@ -484,9 +316,10 @@ class SfmController {
                         o_.colmap.log_file.string());
     r_.kept_model = kept;
     r_.registered = model.images.size();
-    for (const auto& [id, image] : model.images) registered_.insert(image.name);
+    std::set<std::string> registered;
+    for (const auto& [id, image] : model.images) registered.insert(image.name);
     for (const std::string& n : names_)
-      if (!registered_.count(n)) r_.unregistered.push_back(n);
+      if (!registered.count(n)) r_.unregistered.push_back(n);
     spdlog::info("{} of {} views registered ({} model{}; kept model {})", r_.registered, r_.views,
                  r_.models, r_.models == 1 ? "" : "s", kept);
     if (!r_.unregistered.empty())
@@ -515,22 +348,15 @@ class SfmController {
     step("undistortion", [&] {
       fs::remove_all(r_.scene);
       fs::create_directories(sparse);
-      if (!undistort) {
-        write_colmap_model(model, sparse, ColmapFormat::kBinary);
-        relink(images_, r_.scene / "images");
-        return;
-      }
+      if (!undistort) return write_pinhole_scene(model, images_, r_.scene);
       const fs::path und = out_ / "undistorted";
       fs::remove_all(und);
-      o_.colmap.run("undistortion", "image_undistorter",
-                    {"--image_path", images_.string(), "--input_path",
-                     (raw() / std::to_string(r_.kept_model)).string(), "--output_path",
-                     und.string(), "--output_type", "COLMAP"});
-      write_colmap_model(read_colmap_model(und / "sparse"), sparse, ColmapFormat::kBinary);
-      relink(und / "images", r_.scene / "images");
-      write_colmap_model(cameras_only(model), r_.scene / kPhotoCamerasDir, ColmapFormat::kBinary);
+      o_.colmap.run(
+          "undistortion", "image_undistorter",
+          image_undistorter_arguments(images_, raw() / std::to_string(r_.kept_model), und));
+      write_undistorted_scene(und, model, r_.scene);
     });
-    if (undistort) undistort_user_id_maps(user_, r_.scene, model, o_);
+    if (undistort) undistort_user_id_maps(user_, r_.scene, model, o_.id_map_dirs);
     link_user_files(user_, r_.scene, o_.images_dir, undistort);
     spdlog::info("scene folder: {}", layout_description(detect_dataset_layout(user_)));
     // Said here, where the user's folder is named, rather than only by the
@@ -545,13 +371,7 @@ class SfmController {
   // Against the true cameras, if given (after a similarity alignment).
   void score_poses(const ColmapModel& model) {
     if (o_.truth.empty()) return;
-    const ColmapModel truth = read_colmap_model(o_.truth);
-    std::set<std::string> true_names;
-    for (const auto& [id, image] : truth.images) true_names.insert(image.name);
-    if (std::count_if(registered_.begin(), registered_.end(),
-                      [&](const std::string& n) { return true_names.count(n) > 0; }) < 3)
-      throw InputError(o_.truth, "the true model shares fewer than 3 image names with the scene");
-    const PoseAccuracy acc = pose_accuracy(model, truth);
+    const PoseAccuracy acc = pose_accuracy_against(model, o_.truth);
     r_.center_rmse = acc.center_rmse;
     r_.rotation_error_deg = acc.rotation_error_deg;
     accuracy_ = {{"matched", acc.matched},
@@ -586,7 +406,7 @@ class SfmController {
 
   const fs::path user_, out_;
   SfmOptions o_;
-  Steps steps_;
+  ResumableSteps steps_;
   fs::path images_;
   std::vector<std::string> names_;
   std::optional<ColmapModel> imported_;
@@ -595,7 +415,6 @@ class SfmController {
   std::vector<std::string> missing_;  // frames of a capture without their photo
   std::string fp_;                    // fingerprint of the inputs and options of the steps so far
   bool redo_ = false;                 // a step ran, so every later one must run too
-  std::set<std::string> registered_;
   json accuracy_ = nullptr;
   SfmResult r_;
 };
