@@ -1,7 +1,7 @@
 // op2gs-floaters: floaters and wrongly labelled Gaussians of a trained model
 // of an op2gs-synth scene, against the scene's true surfaces.
 
-#include "eval/study/floaters_run.h"
+#include "eval/floaters/floaters_run.h"
 #include "splat/work_layout.h"
 #include "stages/common.h"
 

@@ -3,8 +3,8 @@
 // one scene with exact and with realistic masks side by side
 // (docs/synthetic.md).
 
-#include "eval/synthetic/mask_errors_run.h"
 #include "stages/common.h"
+#include "synth/mask_errors_run.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Add a video segmenter's errors to a folder of exact ID maps."};

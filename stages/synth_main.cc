@@ -1,8 +1,8 @@
 // op2gs-synth: generates a synthetic benchmark scene (LERF-Mask layout, and
 // optionally 3DOVS) with exact and SAM2-like corrupted instance maps.
 
-#include "eval/synthetic/generator.h"
 #include "stages/common.h"
+#include "synth/generator.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Generate a ray-traced synthetic scene in the LERF-Mask layout."};

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string>
 
-#include "eval/synthetic/generator.h"
+#include "synth/generator.h"
 #include "tests/test_util.h"
 
 namespace testing_util {

@@ -5,10 +5,10 @@
 
 #include <gtest/gtest.h>
 
-#include "eval/synthetic/generator.h"
 #include "splat/error.h"
 #include "splat/id_maps.h"
 #include "splat/image.h"
+#include "synth/generator.h"
 #include "tests/test_util.h"
 #include "tests/tiny_scene.h"
 

@@ -10,7 +10,6 @@
 
 #include "eval/report/report.h"
 #include "eval/run/eval_run.h"
-#include "eval/synthetic/generator.h"
 #include "splat/colmap_model.h"
 #include "splat/error.h"
 #include "splat/id_maps.h"
@@ -28,6 +27,7 @@
 #include "splat/train/train_run.h"
 #include "splat/view_split.h"
 #include "splat/work_layout.h"
+#include "synth/generator.h"
 #include "tests/test_util.h"
 #include "tests/tiny_scene.h"
 

@@ -9,12 +9,12 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "eval/synthetic/generator.h"
 #include "splat/error.h"
 #include "splat/id_maps.h"
 #include "splat/npy.h"
 #include "splat/ply.h"
 #include "splat/train/initialize.h"
+#include "synth/generator.h"
 #include "tests/test_util.h"
 #include "tests/tiny_scene.h"
 

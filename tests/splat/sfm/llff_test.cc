@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include "eval/synthetic/generator.h"
 #include "splat/error.h"
 #include "splat/npy.h"
+#include "synth/generator.h"
 #include "tests/test_util.h"
 #include "tests/tiny_scene.h"
 

@@ -9,7 +9,6 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
-#include "eval/synthetic/generator.h"
 #include "splat/atomic_file.h"
 #include "splat/colmap_model.h"
 #include "splat/error.h"
@@ -19,6 +18,7 @@
 #include "splat/photo_cameras.h"
 #include "splat/sfm/alignment.h"
 #include "splat/sfm/sfm_run.h"
+#include "synth/generator.h"
 #include "tests/test_util.h"
 
 namespace splat {

@@ -12,12 +12,13 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
-#include "eval/synthetic/generator.h"
-#include "eval/synthetic/scene_layout.h"
 #include "splat/error.h"
 #include "splat/image.h"
 #include "splat/ply.h"
 #include "splat/sfm/alignment.h"
+#include "synth/generator.h"
+#include "synth/render_scene.h"
+#include "synth/scene_layout.h"
 #include "tests/test_util.h"
 
 namespace splat {

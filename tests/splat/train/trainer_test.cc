@@ -6,11 +6,11 @@
 
 #include <cmath>
 
-#include "eval/synthetic/generator.h"
 #include "splat/atomic_file.h"
 #include "splat/error.h"
 #include "splat/image.h"
 #include "splat/train/train_run.h"
+#include "synth/generator.h"
 #include "tests/test_util.h"
 #include "tests/tiny_scene.h"
 

@@ -1,4 +1,4 @@
-#include "eval/synthetic/scene_layout.h"
+#include "synth/scene_layout.h"
 
 #include <cmath>
 #include <nlohmann/json.hpp>

@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <filesystem>
 
-#include "eval/synthetic/sam2_corruption.h"
-#include "eval/synthetic/track_errors.h"
+#include "synth/sam2_corruption.h"
+#include "synth/track_errors.h"
 
 namespace synth {
 

@@ -1,4 +1,4 @@
-#include "eval/synthetic/mask_errors_run.h"
+#include "synth/mask_errors_run.h"
 
 #include <algorithm>
 #include <set>

@@ -1,4 +1,4 @@
-#include "eval/synthetic/track_errors.h"
+#include "synth/track_errors.h"
 
 #include <gtest/gtest.h>
 

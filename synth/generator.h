@@ -39,12 +39,12 @@
 #include <string>
 #include <vector>
 
-#include "eval/synthetic/capture_imperfections.h"
-#include "eval/synthetic/sam2_corruption.h"
-#include "eval/synthetic/scene_layout.h"
-#include "eval/synthetic/track_errors.h"
 #include "splat/camera.h"
 #include "splat/colmap_model.h"
+#include "synth/capture_imperfections.h"
+#include "synth/sam2_corruption.h"
+#include "synth/scene_layout.h"
+#include "synth/track_errors.h"
 
 namespace synth {
 
@@ -76,38 +76,11 @@ struct SynthOptions {
   void Check() const;  // throws std::invalid_argument with a one-line message
 };
 
-// The orbit of cameras, one per view, in view order.
-std::vector<splat::Camera> orbit_cameras(const SynthOptions& options, const SceneLayout& layout);
-
-// Image file name of view i ("frame_00007.png", or .jpg).
-std::string view_name(int i, const std::string& extension = ".png");
-
-// Ray-traced images, exact ID maps and the sparse model of a scene, in memory.
-struct RenderedScene {
-  std::vector<splat::Camera> cameras;        // the true cameras, which rendered the photos
-  std::vector<splat::Camera> posed_cameras;  // as the camera files hold them (SfM-like error)
-  std::vector<std::string> names;
-  std::vector<splat::ImageRGB> images;
-  std::vector<splat::IdMap> instance_maps;
-  splat::ColmapModel sparse;
-};
-
-class RayTracer;
-RenderedScene render_scene(const SynthOptions& options, const SceneLayout& layout);
-
-// The COLMAP camera of the photos: PINHOLE, or OPENCV with the distortion.
-splat::ColmapCamera photo_camera(const SynthOptions& options, const splat::Camera& pinhole);
-
-// Surface points seen from at least two views, with COLMAP tracks.
-splat::ColmapModel sample_sparse_model(const RayTracer& tracer,
-                                       const std::vector<splat::Camera>& cameras,
-                                       const std::vector<std::string>& names, int num_points,
-                                       uint64_t seed,
-                                       const splat::ColmapCamera* distorted = nullptr);
-
-// Generates the scene into out_dir. The scene is built in a temporary folder
-// beside out_dir and renamed into place at the end; an existing out_dir is
-// replaced only with force (otherwise std::runtime_error).
+// Generates the scene into out_dir: renders the world (render_scene.h),
+// corrupts its ID maps as SAM2 would (sam2_corruption.h, track_errors.h), and
+// writes it in the format asked for (scene_writers.h). The folder is built
+// aside and swapped in whole; an existing out_dir (or ovs_dir) is replaced
+// only with force (otherwise std::runtime_error).
 void generate_scene(const SynthOptions& options, const std::filesystem::path& out_dir, bool force);
 
 }  // namespace synth

@@ -26,9 +26,9 @@
 #include <map>
 #include <vector>
 
-#include "eval/synthetic/scene_layout.h"
 #include "splat/camera.h"
 #include "splat/gaussians.h"
+#include "synth/scene_layout.h"
 
 namespace study {
 

@@ -1,4 +1,4 @@
-#include "eval/study/floaters_run.h"
+#include "eval/floaters/floaters_run.h"
 
 #include <fmt/format.h>
 

@@ -11,7 +11,7 @@
 
 #include <filesystem>
 
-#include "eval/study/floaters.h"
+#include "eval/floaters/floaters.h"
 #include "splat/scene.h"
 #include "splat/view_split.h"
 

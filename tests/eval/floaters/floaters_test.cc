@@ -1,7 +1,7 @@
 // Floaters and contamination against the true surfaces, on Gaussians placed
 // by hand in the default synthetic layout.
 
-#include "eval/study/floaters.h"
+#include "eval/floaters/floaters.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "eval/synthetic/sam2_corruption.h"
+#include "synth/sam2_corruption.h"
 
 #include <gtest/gtest.h>
 

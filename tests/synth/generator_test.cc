@@ -1,4 +1,4 @@
-#include "eval/synthetic/generator.h"
+#include "synth/generator.h"
 
 #include <gtest/gtest.h>
 
@@ -7,11 +7,12 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "eval/synthetic/raytracer.h"
 #include "splat/colmap_model.h"
 #include "splat/id_maps.h"
 #include "splat/image.h"
 #include "splat/scene.h"
+#include "synth/raytracer.h"
+#include "synth/render_scene.h"
 #include "tests/test_util.h"
 
 namespace synth {

@@ -9,7 +9,7 @@
 #include <Eigen/Geometry>
 #include <optional>
 
-#include "eval/synthetic/scene_layout.h"
+#include "synth/scene_layout.h"
 
 namespace synth {
 

@@ -1,4 +1,4 @@
-#include "eval/study/floaters.h"
+#include "eval/floaters/floaters.h"
 
 #include <tbb/parallel_for.h>
 

@@ -1,4 +1,4 @@
-#include "eval/synthetic/raytracer.h"
+#include "synth/raytracer.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "eval/synthetic/capture_imperfections.h"
+#include "synth/capture_imperfections.h"
 
 #include <fmt/format.h>
 
