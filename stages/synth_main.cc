@@ -45,8 +45,8 @@ int main(int argc, char** argv) {
                  "mean run of consecutive views over which a miss or leak persists "
                  "(1: independent per view)")
       ->capture_default_str();
-  std::string shipping = "op2gs";
-  app.add_option("--as", shipping,
+  std::string format = "op2gs";
+  app.add_option("--as", format,
                  "ship the scene as: op2gs (its own layout), lerf-mask-download (Gaussian "
                  "Grouping's LERF-Mask download), nerfstudio or instant-ngp (transforms.json)")
       ->capture_default_str();
@@ -107,13 +107,13 @@ int main(int argc, char** argv) {
     if (given(merges)) o.tracks.merges = t.merges;
     if (given(late)) o.tracks.late_objects = t.late_objects;
     o.write_sparse = !no_sparse;
-    using synth::Shipping;
-    o.shipping =
-        stages::parse_choice<Shipping>("--as", shipping,
-                                       {{"op2gs", Shipping::kOp2gs},
-                                        {"lerf-mask-download", Shipping::kLerfMaskDownload},
-                                        {"nerfstudio", Shipping::kNerfstudio},
-                                        {"instant-ngp", Shipping::kInstantNgp}});
+    using synth::OutputFormat;
+    o.format =
+        stages::parse_choice<OutputFormat>("--as", format,
+                                           {{"op2gs", OutputFormat::kOp2gs},
+                                            {"lerf-mask-download", OutputFormat::kLerfMaskDownload},
+                                            {"nerfstudio", OutputFormat::kNerfstudio},
+                                            {"instant-ngp", OutputFormat::kInstantNgp}});
     synth::generate_scene(o, out, force);
     spdlog::info("scene written to {}", out);
   });

@@ -12,7 +12,7 @@
 //                             grows with brightness
 //   jpeg_quality              the photos pass through JPEG at this quality
 //   specular                  glossy objects: view-dependent highlights
-//                             (applied by the ray tracer, SceneLayout::specular)
+//                             (applied by the ray tracer, World::specular)
 //   pose / focal error        the camera files hold SfM-like poses and focal
 //                             length with small errors; the photos are
 //                             rendered from the true cameras

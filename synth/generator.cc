@@ -35,9 +35,9 @@ void SynthOptions::Check() const {
     fail("ovs_test_views must be in 1..views");
   if (!distortion.empty() && distortion.size() != 4)
     fail("distortion is four OPENCV coefficients: k1 k2 p1 p2");
-  if (!distortion.empty() && shipping == Shipping::kLerfMaskDownload)
+  if (!distortion.empty() && format == OutputFormat::kLerfMaskDownload)
     fail("the LERF-Mask download holds undistorted photos: no distortion");
-  if (ovs_prepared && ovs_dir.empty()) fail("a prepared 3DOVS layout needs its folder");
+  if (ovs_prepared && ovs_dir.empty()) fail("a prepared 3DOVS world needs its folder");
   sam2.Check();
   tracks.Check();
   capture.Check();
@@ -48,14 +48,14 @@ void generate_scene(const SynthOptions& o, const fs::path& out_dir, bool force) 
   for (const fs::path& dir : {out_dir, o.ovs_dir})
     if (!dir.empty() && fs::exists(dir) && !force)
       throw std::runtime_error(dir.string() + ": already exists (use --force to replace it)");
-  SceneLayout layout = default_layout(o.seed);
-  layout.specular = o.capture.specular;
+  World world = default_world(o.seed);
+  world.specular = o.capture.specular;
   spdlog::info("rendering {} views at {}x{} ({}x{} samples per pixel)", o.views, o.width, o.height,
                o.supersample, o.supersample);
-  const RenderedScene r = render_scene(o, layout);
+  const RenderedScene r = render_scene(o, world);
 
   std::vector<int> ids;
-  for (const SceneObject& obj : layout.objects) ids.push_back(obj.id);
+  for (const SceneObject& obj : world.objects) ids.push_back(obj.id);
   std::vector<splat::IdMap> sam2 = corrupt_sequence_like_sam2(r.instance_maps, ids, o.sam2, o.seed);
   const std::vector<int> switched =
       apply_track_errors(sam2, r.instance_maps, ids, o.tracks, o.seed);
@@ -64,16 +64,16 @@ void generate_scene(const SynthOptions& o, const fs::path& out_dir, bool force) 
   // Each folder is built aside and swapped in whole (--force replaces it).
   spdlog::info("writing the scene to {}", out_dir.string());
   splat::StagedFolder scene(out_dir, splat::StagedFolder::Target::kOwned);
-  if (o.shipping == Shipping::kNerfstudio || o.shipping == Shipping::kInstantNgp)
-    write_capture(scene.path(), o, layout, r, sam2);
+  if (o.format == OutputFormat::kNerfstudio || o.format == OutputFormat::kInstantNgp)
+    write_capture(scene.path(), o, world, r, sam2);
   else
-    write_lerf_mask_layout(scene.path(), o, layout, r, sam2);
+    write_lerf_mask_layout(scene.path(), o, world, r, sam2);
   scene.commit();
 
   if (!o.ovs_dir.empty()) {
-    spdlog::info("writing the 3DOVS layout to {}", o.ovs_dir.string());
+    spdlog::info("writing the 3DOVS world to {}", o.ovs_dir.string());
     splat::StagedFolder ovs(o.ovs_dir, splat::StagedFolder::Target::kOwned);
-    write_ovs_layout(ovs.path(), r, sam2, layout, o.ovs_test_views, o.ovs_prepared);
+    write_ovs_layout(ovs.path(), r, sam2, world, o.ovs_test_views, o.ovs_prepared);
     ovs.commit();
   }
 }

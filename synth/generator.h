@@ -43,12 +43,12 @@
 #include "splat/colmap_model.h"
 #include "synth/capture_imperfections.h"
 #include "synth/sam2_corruption.h"
-#include "synth/scene_layout.h"
 #include "synth/track_errors.h"
+#include "synth/world.h"
 
 namespace synth {
 
-enum class Shipping { kOp2gs, kLerfMaskDownload, kNerfstudio, kInstantNgp };
+enum class OutputFormat { kOp2gs, kLerfMaskDownload, kNerfstudio, kInstantNgp };
 
 struct SynthOptions {
   int views = 40;
@@ -67,7 +67,7 @@ struct SynthOptions {
   std::filesystem::path ovs_dir;  // if set: also write the 3DOVS layout here
   int ovs_test_views = 5;
   bool ovs_prepared = false;  // the 3DOVS layout as ObjectGS prepares it
-  Shipping shipping = Shipping::kOp2gs;
+  OutputFormat format = OutputFormat::kOp2gs;
   std::vector<double> distortion;  // OPENCV k1 k2 p1 p2 of the photos; empty: pinhole
   Sam2CorruptionOptions sam2;
   TrackErrorOptions tracks;  // the segmenter's track errors (ID switches, merges)

@@ -193,9 +193,9 @@ LocalHit hit_cone(const V& o, const V& d) {
 
 }  // namespace
 
-RayTracer::RayTracer(const SceneLayout& layout)
-    : layout_(layout), light_(layout.light_direction.normalized()) {
-  for (const SceneObject& o : layout_.objects) {
+RayTracer::RayTracer(const World& world)
+    : world_(world), light_(world.light_direction.normalized()) {
+  for (const SceneObject& o : world_.objects) {
     const Eigen::Matrix3d R = Eigen::AngleAxisd(o.yaw, V::UnitY()).toRotationMatrix();
     const Eigen::Matrix3d S_inv = o.half_size.cwiseInverse().asDiagonal();
     frames_.push_back({S_inv * R.transpose(), R * S_inv, 1.01 * o.half_size.norm()});
@@ -205,7 +205,7 @@ RayTracer::RayTracer(const SceneLayout& layout)
 std::optional<std::pair<double, V>> RayTracer::intersect_object(const SceneObject& o,
                                                                 const V& origin,
                                                                 const V& dir) const {
-  const Frame& f = frames_[&o - layout_.objects.data()];
+  const Frame& f = frames_[&o - world_.objects.data()];
   // Bounding-sphere rejection.
   const V oc = origin - o.position;
   const double b = oc.dot(dir), c = oc.squaredNorm() - f.bound_radius * f.bound_radius;
@@ -238,7 +238,7 @@ Hit RayTracer::intersect(const V& origin, const V& dir, bool skip_transparent,
   // The dome (from inside: the far root) always bounds the ray.
   {
     const double b = origin.dot(dir);
-    const double c = origin.squaredNorm() - layout_.enclosure_radius * layout_.enclosure_radius;
+    const double c = origin.squaredNorm() - world_.enclosure_radius * world_.enclosure_radius;
     best.t = -b + std::sqrt(std::max(0.0, b * b - c));
     best.object = Hit::kEnclosure;
     best.normal = -(origin + best.t * dir).normalized();
@@ -251,8 +251,8 @@ Hit RayTracer::intersect(const V& origin, const V& dir, bool skip_transparent,
       best.normal = V::UnitY();
     }
   }
-  for (size_t i = 0; i < layout_.objects.size(); ++i) {
-    const SceneObject& o = layout_.objects[i];
+  for (size_t i = 0; i < world_.objects.size(); ++i) {
+    const SceneObject& o = world_.objects[i];
     if (int(i) == skip_object || (skip_transparent && o.material.opacity < 1)) continue;
     if (auto h = intersect_object(o, origin, dir); h && h->first < best.t) {
       best.t = h->first;
@@ -266,12 +266,12 @@ Hit RayTracer::intersect(const V& origin, const V& dir, bool skip_transparent,
 }
 
 V RayTracer::albedo(const Hit& hit) const {
-  const V p = hit.point + layout_.texture_offset;
+  const V p = hit.point + world_.texture_offset;
   if (hit.object >= 0) {
-    const Material& m = layout_.objects[hit.object].material;
+    const Material& m = world_.objects[hit.object].material;
     const double v =
-        pattern_value(m.pattern, m.frequency * (hit.point - layout_.objects[hit.object].position) +
-                                     layout_.texture_offset);
+        pattern_value(m.pattern, m.frequency * (hit.point - world_.objects[hit.object].position) +
+                                     world_.texture_offset);
     const double grain = 0.8 + 0.4 * fbm(3.1 * m.frequency * p, 2);
     return (m.base * (1 - v) + m.accent * v) * grain;
   }
@@ -281,39 +281,39 @@ V RayTracer::albedo(const Hit& hit) const {
     const double hue = 0.08 + 0.12 * fbm(0.4 * p, 2);
     V c = hsv(hue, 0.35 + 0.3 * fbm(1.7 * p), 0.35 + 0.55 * tile) * (0.75 + 0.5 * fbm(9.0 * p, 3));
     // A dark mat under the dark object, still faintly textured.
-    const double r = (xz - layout_.dark_region_center).norm();
-    if (r < layout_.dark_region_radius) c = V::Constant(0.04) + 0.10 * fbm(6.0 * p) * V::Ones();
+    const double r = (xz - world_.dark_region_center).norm();
+    if (r < world_.dark_region_radius) c = V::Constant(0.04) + 0.10 * fbm(6.0 * p) * V::Ones();
     return c;
   }
   // Dome: colourful blotches with fine detail; one dark sector behind the
   // dark object.
   const V dir = hit.point.normalized();
-  const V q = 2.2 * dir * layout_.enclosure_radius / 7.0 + layout_.texture_offset;
+  const V q = 2.2 * dir * world_.enclosure_radius / 7.0 + world_.texture_offset;
   V c = hsv(fbm(0.35 * q, 3), 0.5 + 0.4 * fbm(1.1 * q), 0.3 + 0.6 * fbm(2.3 * q)) *
         (0.7 + 0.6 * fbm(7.0 * q, 3));
-  double az = std::atan2(hit.point.z(), hit.point.x()) - layout_.dark_azimuth;
+  double az = std::atan2(hit.point.z(), hit.point.x()) - world_.dark_azimuth;
   az = std::remainder(az, 2 * M_PI);
-  if (std::abs(az) < layout_.dark_azimuth_halfwidth && hit.point.y() < 3.0)
+  if (std::abs(az) < world_.dark_azimuth_halfwidth && hit.point.y() < 3.0)
     c = V::Constant(0.04) + 0.10 * fbm(5.0 * q) * V::Ones();
   return c;
 }
 
 double RayTracer::light_visibility(const V& point) const {
   double visibility = 1.0;
-  for (size_t i = 0; i < layout_.objects.size(); ++i) {
-    if (intersect_object(layout_.objects[i], point, light_))
-      visibility *= 1.0 - layout_.objects[i].material.opacity;
+  for (size_t i = 0; i < world_.objects.size(); ++i) {
+    if (intersect_object(world_.objects[i], point, light_))
+      visibility *= 1.0 - world_.objects[i].material.opacity;
     if (visibility <= 0) return 0;
   }
   return visibility;
 }
 
 V RayTracer::surface_color(const Hit& hit) const {
-  double light = layout_.ambient;
+  double light = world_.ambient;
   if (hit.object != Hit::kEnclosure) {
     const double lambert = std::max(0.0, hit.normal.dot(light_));
     if (lambert > 0)
-      light += (1 - layout_.ambient) * lambert * light_visibility(hit.point + 1e-5 * hit.normal);
+      light += (1 - world_.ambient) * lambert * light_visibility(hit.point + 1e-5 * hit.normal);
   } else {
     light = 1.0;  // the dome is self-lit
   }
@@ -321,11 +321,11 @@ V RayTracer::surface_color(const Hit& hit) const {
 }
 
 V RayTracer::highlight(const Hit& hit, const V& dir) const {
-  if (layout_.specular <= 0 || hit.object < 0) return V::Zero();
+  if (world_.specular <= 0 || hit.object < 0) return V::Zero();
   const V half = (light_ - dir).normalized();
   const double cosine = hit.normal.dot(half);
   if (cosine <= 0 || hit.normal.dot(light_) <= 0) return V::Zero();
-  const double s = layout_.specular * std::pow(cosine, layout_.shininess);
+  const double s = world_.specular * std::pow(cosine, world_.shininess);
   return V::Constant(s * light_visibility(hit.point + 1e-5 * hit.normal));
 }
 
@@ -336,7 +336,7 @@ V RayTracer::trace(const V& origin, const V& dir) const {
   V o = origin;
   for (int bounce = 0; bounce < 4; ++bounce) {
     const Hit h = intersect(o, dir, false, skip);
-    const double a = h.object >= 0 ? layout_.objects[h.object].material.opacity : 1.0;
+    const double a = h.object >= 0 ? world_.objects[h.object].material.opacity : 1.0;
     color += remaining * a * (surface_color(h) + highlight(h, dir));
     remaining *= 1 - a;
     if (remaining <= 1e-4) break;
@@ -349,7 +349,7 @@ V RayTracer::trace(const V& origin, const V& dir) const {
 
 int RayTracer::instance_id(const V& origin, const V& dir) const {
   const Hit h = intersect(origin, dir);
-  return h.object >= 0 ? layout_.objects[h.object].id : 0;
+  return h.object >= 0 ? world_.objects[h.object].id : 0;
 }
 
 }  // namespace synth

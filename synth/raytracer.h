@@ -3,17 +3,17 @@
 // canonical shapes, Lambertian shading with one directional light, hard
 // shadows and semi-transparent surfaces. Colours are view-independent, so
 // multi-view geometry (SfM) and 3DGS fit the images exactly, unless the
-// layout asks for specular highlights (SceneLayout::specular).
+// layout asks for specular highlights (World::specular).
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <optional>
 
-#include "synth/scene_layout.h"
+#include "synth/world.h"
 
 namespace synth {
 
-// What a ray hit. object >= 0 is an index into SceneLayout::objects;
+// What a ray hit. object >= 0 is an index into World::objects;
 // kGround and kEnclosure are the background surfaces (instance ID 0).
 struct Hit {
   static constexpr int kGround = -1;
@@ -26,7 +26,7 @@ struct Hit {
 
 class RayTracer {
  public:
-  explicit RayTracer(const SceneLayout& layout);
+  explicit RayTracer(const World& world);
 
   // Nearest hit along origin + t * dir (dir unit, t > 1e-6). With
   // skip_transparent, semi-transparent objects are ignored; skip_object
@@ -46,7 +46,7 @@ class RayTracer {
   // unless the layout is glossy).
   Eigen::Vector3d highlight(const Hit& hit, const Eigen::Vector3d& dir) const;
 
-  const SceneLayout& layout() const { return layout_; }
+  const World& world() const { return world_; }
 
  private:
   std::optional<std::pair<double, Eigen::Vector3d>> intersect_object(
@@ -54,7 +54,7 @@ class RayTracer {
   Eigen::Vector3d albedo(const Hit& hit) const;
   double light_visibility(const Eigen::Vector3d& point) const;
 
-  SceneLayout layout_;
+  World world_;
   Eigen::Vector3d light_;
   struct Frame {
     Eigen::Matrix3d world_to_local;   // S^-1 R^T

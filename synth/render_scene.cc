@@ -37,7 +37,7 @@ splat::ColmapCamera photo_camera(const SynthOptions& o, const splat::Camera& c) 
   return camera;
 }
 
-std::vector<splat::Camera> orbit_cameras(const SynthOptions& o, const SceneLayout& layout) {
+std::vector<splat::Camera> orbit_cameras(const SynthOptions& o, const World& world) {
   std::mt19937_64 rng(o.seed * 7919 + 1);
   std::uniform_real_distribution<double> u(-1, 1);
   const double fx = 0.5 * o.width / std::tan(0.5 * o.fov_x_degrees * M_PI / 180.0);
@@ -47,9 +47,9 @@ std::vector<splat::Camera> orbit_cameras(const SynthOptions& o, const SceneLayou
     const double r = o.orbit_radius * (1 + o.radius_jitter * u(rng));
     const double h = o.orbit_height + o.height_jitter * u(rng);
     const Eigen::Vector3d eye =
-        layout.look_at + Eigen::Vector3d(r * std::cos(angle), 0, r * std::sin(angle));
+        world.look_at + Eigen::Vector3d(r * std::cos(angle), 0, r * std::sin(angle));
     const Eigen::Vector3d target =
-        layout.look_at + 0.1 * Eigen::Vector3d(u(rng), 0.5 * u(rng), u(rng));
+        world.look_at + 0.1 * Eigen::Vector3d(u(rng), 0.5 * u(rng), u(rng));
     cams.push_back(splat::Camera::look_at(Eigen::Vector3d(eye.x(), h, eye.z()), target,
                                           Eigen::Vector3d::UnitY(), o.width, o.height, fx, fx));
   }
@@ -175,11 +175,11 @@ void use_posed_cameras(RenderedScene& r) {
 
 }  // namespace
 
-RenderedScene render_scene(const SynthOptions& o, const SceneLayout& layout) {
+RenderedScene render_scene(const SynthOptions& o, const World& world) {
   RenderedScene r;
-  const RayTracer tracer(layout);
-  r.cameras = orbit_cameras(o, layout);
-  const std::string extension = o.shipping == Shipping::kOp2gs ? ".png" : ".jpg";
+  const RayTracer tracer(world);
+  r.cameras = orbit_cameras(o, world);
+  const std::string extension = o.format == OutputFormat::kOp2gs ? ".png" : ".jpg";
   for (int i = 0; i < o.views; ++i) r.names.push_back(view_name(i, extension));
   const splat::ColmapCamera lens = photo_camera(o, r.cameras.front());
   const splat::ColmapCamera* distorted = o.distortion.empty() ? nullptr : &lens;
@@ -200,7 +200,7 @@ RenderedScene render_scene(const SynthOptions& o, const SceneLayout& layout) {
   r.posed_cameras = o.capture.geometric()
                         ? sfm_like_cameras(r.cameras, o.capture, o.orbit_radius, o.seed)
                         : r.cameras;
-  if (o.write_sparse || o.shipping != Shipping::kOp2gs || o.ovs_prepared) {
+  if (o.write_sparse || o.format != OutputFormat::kOp2gs || o.ovs_prepared) {
     r.sparse = sample_sparse_model(tracer, r.cameras, r.names, o.num_points, o.seed, distorted);
     spdlog::info("sampled {} sparse points seen from >= 2 views", r.sparse.points3d.size());
     use_posed_cameras(r);

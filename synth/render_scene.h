@@ -12,12 +12,12 @@
 #include "splat/id_maps.h"
 #include "splat/image.h"
 #include "synth/generator.h"
-#include "synth/scene_layout.h"
+#include "synth/world.h"
 
 namespace synth {
 
 // The orbit of cameras, one per view, in view order.
-std::vector<splat::Camera> orbit_cameras(const SynthOptions& options, const SceneLayout& layout);
+std::vector<splat::Camera> orbit_cameras(const SynthOptions& options, const World& world);
 
 // Image file name of view i ("frame_00007.png", or .jpg).
 std::string view_name(int i, const std::string& extension = ".png");
@@ -33,7 +33,7 @@ struct RenderedScene {
 };
 
 class RayTracer;
-RenderedScene render_scene(const SynthOptions& options, const SceneLayout& layout);
+RenderedScene render_scene(const SynthOptions& options, const World& world);
 
 // The COLMAP camera of the photos: PINHOLE, or OPENCV with the distortion.
 splat::ColmapCamera photo_camera(const SynthOptions& options, const splat::Camera& pinhole);

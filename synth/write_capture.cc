@@ -31,7 +31,7 @@ json opengl_pose(const splat::Camera& c, const Eigen::Matrix3d& world_turn) {
 }  // namespace
 
 // A posed capture as nerfstudio or instant-ngp writes it (generator.h).
-void write_capture(const fs::path& dir, const SynthOptions& o, const SceneLayout& layout,
+void write_capture(const fs::path& dir, const SynthOptions& o, const World& world,
                    const RenderedScene& r, const std::vector<splat::IdMap>& sam2) {
   const int n = int(r.images.size());
   tbb::parallel_for(0, n, [&](int i) {
@@ -39,11 +39,11 @@ void write_capture(const fs::path& dir, const SynthOptions& o, const SceneLayout
     splat::write_id_map(dir / "sam2" / (file_stem(r.names[i]) + ".png"), sam2[i], 8);
   });
   json names = json::array();
-  for (const SceneObject& obj : layout.objects)
+  for (const SceneObject& obj : world.objects)
     names.push_back({{"id", obj.id}, {"name", obj.name}});
   splat::write_text_atomically(dir / "sam2" / "objects.json", names.dump(2) + "\n");
 
-  const bool ns = o.shipping == Shipping::kNerfstudio;
+  const bool ns = o.format == OutputFormat::kNerfstudio;
   // nerfstudio turns COLMAP's world (x <-> y, z flipped) and says so.
   Eigen::Matrix3d turn = Eigen::Matrix3d::Identity();
   if (ns) turn << 0, 1, 0, 1, 0, 0, 0, 0, -1;

@@ -16,9 +16,9 @@ using json = nlohmann::json;
 
 namespace {
 
-json object_table(const SceneLayout& layout) {
+json object_table(const World& world) {
   json objects = json::array();
-  for (const SceneObject& o : layout.objects)
+  for (const SceneObject& o : world.objects)
     objects.push_back({{"id", o.id},
                        {"name", o.name},
                        {"shape", shape_name(o.shape)},
@@ -31,10 +31,10 @@ json object_table(const SceneLayout& layout) {
 
 // The LERF-Mask layout: op2gs's own, or Gaussian Grouping's download (DEVA
 // maps in object_mask/, black on the test views; no op2gs extras).
-void write_lerf_mask_layout(const fs::path& dir, const SynthOptions& o, const SceneLayout& layout,
+void write_lerf_mask_layout(const fs::path& dir, const SynthOptions& o, const World& world,
                             const RenderedScene& r, const std::vector<splat::IdMap>& sam2) {
   const int n = int(r.images.size());
-  const bool download = o.shipping == Shipping::kLerfMaskDownload;
+  const bool download = o.format == OutputFormat::kLerfMaskDownload;
   tbb::parallel_for(0, n, [&](int i) {
     const bool test = i % o.test_every == 0;
     splat::write_image_rgb(dir / "images" / r.names[i], r.images[i]);
@@ -52,7 +52,7 @@ void write_lerf_mask_layout(const fs::path& dir, const SynthOptions& o, const Sc
   std::set<std::string> queries;
   int k = 0;
   for (int i = 0; i < n; i += o.test_every, ++k) {
-    for (const SceneObject& obj : layout.objects) {
+    for (const SceneObject& obj : world.objects) {
       const auto mask = object_mask(r.instance_maps[i], obj.id);
       if (std::none_of(mask.begin(), mask.end(), [](uint8_t v) { return v; })) continue;
       splat::write_mask_png(dir / "test_mask" / std::to_string(k) / (obj.name + ".png"),
@@ -70,14 +70,14 @@ void write_lerf_mask_layout(const fs::path& dir, const SynthOptions& o, const Sc
     return;
   }
   std::string query_list;
-  for (const SceneObject& obj : layout.objects)
+  for (const SceneObject& obj : world.objects)
     if (queries.count(obj.name)) query_list += obj.name + "\n";
   splat::write_text_atomically(dir / "queries.txt", query_list);
 
-  const json objects = object_table(layout);
+  const json objects = object_table(world);
   splat::write_text_atomically(dir / "objects.json", objects.dump(2) + "\n");
   json sam2_names = json::array();
-  for (const SceneObject& obj : layout.objects)
+  for (const SceneObject& obj : world.objects)
     sam2_names.push_back({{"id", obj.id}, {"name", obj.name}});
   splat::write_text_atomically(dir / "sam2" / "objects.json", sam2_names.dump(2) + "\n");
 
@@ -94,7 +94,7 @@ void write_lerf_mask_layout(const fs::path& dir, const SynthOptions& o, const Sc
                {"fov_x_degrees", o.fov_x_degrees},
                {"orbit_radius", o.orbit_radius},
                {"orbit_height", o.orbit_height},
-               {"look_at", {layout.look_at.x(), layout.look_at.y(), layout.look_at.z()}},
+               {"look_at", {world.look_at.x(), world.look_at.y(), world.look_at.z()}},
                {"sparse_points", r.sparse.points3d.size()},
                {"sam2",
                 {{"strength", o.sam2.strength},
@@ -124,7 +124,7 @@ void write_lerf_mask_layout(const fs::path& dir, const SynthOptions& o, const Sc
                  {"pose_translation", o.capture.pose_translation},
                  {"focal_error", o.capture.focal_error}}}};
   splat::write_text_atomically(dir / "scene.json", meta.dump(2) + "\n");
-  splat::write_text_atomically(dir / "surfaces.json", layout_to_json(layout).dump(2) + "\n");
+  splat::write_text_atomically(dir / "surfaces.json", world_to_json(world).dump(2) + "\n");
 }
 
 }  // namespace synth

@@ -18,7 +18,7 @@ namespace {
 
 // LLFF poses_bounds.npy: per view a 3x5 matrix [R | t | (H, W, f)] of the
 // camera-to-world pose with columns (down, right, backwards), then near, far.
-void write_poses_bounds(const fs::path& file, const RenderedScene& r, const SceneLayout& layout) {
+void write_poses_bounds(const fs::path& file, const RenderedScene& r, const World& world) {
   std::vector<double> rows;
   for (const splat::Camera& c : r.posed_cameras) {
     const Eigen::Matrix3d c2w = c.R.transpose();
@@ -30,7 +30,7 @@ void write_poses_bounds(const fs::path& file, const RenderedScene& r, const Scen
     m.col(4) = Eigen::Vector3d(c.height, c.width, c.fx);
     for (int row = 0; row < 3; ++row)
       for (int col = 0; col < 5; ++col) rows.push_back(m(row, col));
-    const double far = (c.center().norm() + layout.enclosure_radius);
+    const double far = (c.center().norm() + world.enclosure_radius);
     rows.push_back(0.1);
     rows.push_back(far);
   }
@@ -40,13 +40,13 @@ void write_poses_bounds(const fs::path& file, const RenderedScene& r, const Scen
 }  // namespace
 
 void write_ovs_layout(const fs::path& dir, const RenderedScene& r,
-                      const std::vector<splat::IdMap>& sam2, const SceneLayout& layout,
-                      int test_views, bool prepared) {
+                      const std::vector<splat::IdMap>& sam2, const World& world, int test_views,
+                      bool prepared) {
   const int n = int(r.images.size());
   const int digits = std::max(2, int(std::to_string(n - 1).size()));
   auto ovs_name = [&](int i) { return fmt::format("{:0{}d}", i, digits); };
   std::string classes;
-  for (const SceneObject& o : layout.objects) classes += o.name + "\n";
+  for (const SceneObject& o : world.objects) classes += o.name + "\n";
   splat::write_text_atomically(dir / "segmentations" / "classes.txt", classes);
   tbb::parallel_for(0, n, [&](int i) {
     splat::write_image_rgb(dir / "images" / (ovs_name(i) + ".png"), r.images[i]);
@@ -56,13 +56,13 @@ void write_ovs_layout(const fs::path& dir, const RenderedScene& r,
   // Test views spread over the sequence; in 3DOVS they are training views too.
   for (int k = 0; k < test_views; ++k) {
     const int i = int(std::lround((k + 0.5) * n / test_views - 0.5));
-    for (const SceneObject& o : layout.objects)
+    for (const SceneObject& o : world.objects)
       splat::write_mask_png(dir / "segmentations" / ovs_name(i) / (o.name + ".png"),
                             r.images[i].width, r.images[i].height,
                             object_mask(r.instance_maps[i], o.id));
   }
   if (!prepared) {
-    write_poses_bounds(dir / "poses_bounds.npy", r, layout);
+    write_poses_bounds(dir / "poses_bounds.npy", r, world);
     return;
   }
   splat::ColmapModel model = r.sparse;  // the true cameras, under the 3DOVS names

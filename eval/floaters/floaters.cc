@@ -84,10 +84,10 @@ double surface_area(const synth::SceneObject& o) {
 // point is among the 27 cells around it.
 class SurfaceGrid {
  public:
-  SurfaceGrid(const synth::SceneLayout& layout, double cell) : cell_(cell) {
+  SurfaceGrid(const synth::World& world, double cell) : cell_(cell) {
     std::mt19937_64 rng(7);
     const double spacing = cell / 4;
-    for (const synth::SceneObject& o : layout.objects) {
+    for (const synth::SceneObject& o : world.objects) {
       const size_t n =
           std::clamp<size_t>(size_t(4 * surface_area(o) / (spacing * spacing)), 2000, 4000000);
       const Eigen::Matrix3d R = Eigen::AngleAxisd(o.yaw, V::UnitY()).toRotationMatrix();
@@ -160,16 +160,16 @@ bool inside(const synth::SceneObject& o, const V& p) {
 
 }  // namespace
 
-SurfaceMatch match_surfaces(const splat::GaussianModel& model, const synth::SceneLayout& layout,
+SurfaceMatch match_surfaces(const splat::GaussianModel& model, const synth::World& world,
                             const FloaterOptions& o) {
   o.Check();
-  const SurfaceGrid grid(layout, 2 * o.distance);
+  const SurfaceGrid grid(world, 2 * o.distance);
   const size_t n = model.size();
   SurfaceMatch m{std::vector<uint8_t>(n), std::vector<uint8_t>(n), std::vector<int32_t>(n),
                  std::vector<uint8_t>(n)};
-  const Eigen::Vector2d centre(layout.look_at.x(), layout.look_at.z());
+  const Eigen::Vector2d centre(world.look_at.x(), world.look_at.z());
   double region = 0;
-  for (const synth::SceneObject& obj : layout.objects)
+  for (const synth::SceneObject& obj : world.objects)
     region =
         std::max(region, (Eigen::Vector2d(obj.position.x(), obj.position.z()) - centre).norm() +
                              obj.half_size.norm());
@@ -178,7 +178,7 @@ SurfaceMatch match_surfaces(const splat::GaussianModel& model, const synth::Scen
     const V p(model.means[3 * j], model.means[3 * j + 1], model.means[3 * j + 2]);
     m.in_region[j] = (Eigen::Vector2d(p.x(), p.z()) - centre).norm() < region;
     const double ground = std::abs(p.y());
-    const double dome = std::abs(layout.enclosure_radius - p.norm());
+    const double dome = std::abs(world.enclosure_radius - p.norm());
     double d_object;
     int32_t object;
     bool near_other;
@@ -187,7 +187,7 @@ SurfaceMatch match_surfaces(const splat::GaussianModel& model, const synth::Scen
     m.floater[j] = std::min(d_object, background) > o.distance;
     m.true_object[j] = !m.floater[j] && d_object <= background ? object : 0;
     if (m.floater[j])
-      for (const synth::SceneObject& obj : layout.objects)
+      for (const synth::SceneObject& obj : world.objects)
         if (inside(obj, p)) m.floater[j] = 0, m.true_object[j] = obj.id;
     // Another object's surface within twice the distance: on a border.
     grid.nearest(p, d_object, object, m.true_object[j], 2 * o.distance, near_other);
@@ -246,15 +246,15 @@ std::vector<double> shares_per_view(const Occupancy& views) {
 
 }  // namespace
 
-FloaterReport measure_floaters(const splat::GaussianModel& model, const synth::SceneLayout& layout,
+FloaterReport measure_floaters(const splat::GaussianModel& model, const synth::World& world,
                                const std::vector<splat::Camera>& views, const FloaterOptions& o) {
   if (!model.has_labels) throw std::invalid_argument("the model has no labels (run op2gs-vote)");
-  const SurfaceMatch match = match_surfaces(model, layout, o);
+  const SurfaceMatch match = match_surfaces(model, world, o);
   FloaterReport r;
   r.distance = o.distance;
   r.gaussians = model.size();
   std::map<int32_t, ObjectContamination> objects;
-  for (const synth::SceneObject& obj : layout.objects) objects[obj.id].id = obj.id;
+  for (const synth::SceneObject& obj : world.objects) objects[obj.id].id = obj.id;
   std::vector<int32_t> floater_group(model.size()), region_floater_group(model.size()),
       floater_in_mask(model.size()), wrong_in_mask(model.size());
   for (size_t j = 0; j < model.size(); ++j) {

@@ -28,7 +28,7 @@
 
 #include "splat/camera.h"
 #include "splat/gaussians.h"
-#include "synth/scene_layout.h"
+#include "synth/world.h"
 
 namespace study {
 
@@ -44,7 +44,7 @@ struct SurfaceMatch {
   std::vector<int32_t> true_object;   // object ID of the nearest surface, 0 for background
   std::vector<uint8_t> near_another;  // within 2 * distance of another object's surface
 };
-SurfaceMatch match_surfaces(const splat::GaussianModel& model, const synth::SceneLayout& layout,
+SurfaceMatch match_surfaces(const splat::GaussianModel& model, const synth::World& world,
                             const FloaterOptions& options);
 
 struct ObjectContamination {
@@ -80,7 +80,7 @@ struct FloaterReport {
 
 // model: a labelled model; with instance opacities (stage two), sigma*
 // figures are filled, otherwise they equal sigma's.
-FloaterReport measure_floaters(const splat::GaussianModel& model, const synth::SceneLayout& layout,
+FloaterReport measure_floaters(const splat::GaussianModel& model, const synth::World& world,
                                const std::vector<splat::Camera>& views,
                                const FloaterOptions& options);
 

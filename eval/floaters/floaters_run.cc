@@ -23,21 +23,21 @@ void FloaterRunOptions::Check() const {
 
 namespace {
 
-synth::SceneLayout read_surfaces(const fs::path& file) {
+synth::World read_surfaces(const fs::path& file) {
   if (!fs::exists(file))
     throw splat::InputError(file, "missing: floaters are measured on op2gs-synth scenes only");
   try {
     std::ifstream in(file);
-    return synth::layout_from_json(json::parse(in));
+    return synth::world_from_json(json::parse(in));
   } catch (const std::exception& e) {
     throw splat::InputError(file, e.what());
   }
 }
 
-json report_json(const FloaterReport& r, const synth::SceneLayout& layout,
+json report_json(const FloaterReport& r, const synth::World& world,
                  const std::vector<std::string>& view_names) {
   std::map<int32_t, std::string> names;
-  for (const synth::SceneObject& o : layout.objects) names[o.id] = o.name;
+  for (const synth::SceneObject& o : world.objects) names[o.id] = o.name;
   json objects = json::array();
   for (const ObjectContamination& c : r.objects) {
     json o = {
@@ -83,7 +83,7 @@ json report_json(const FloaterReport& r, const synth::SceneLayout& layout,
 FloaterReport run_floaters(const fs::path& scene_dir, const fs::path& out_file,
                            const FloaterRunOptions& o) {
   o.Check();
-  const synth::SceneLayout layout = read_surfaces(scene_dir / "surfaces.json");
+  const synth::World world = read_surfaces(scene_dir / "surfaces.json");
   const splat::CheckpointModel model = splat::read_model_file(o.model);
   if (!model.model.has_labels)
     throw splat::InputError(o.model, "the model has no labels (run op2gs-vote first)");
@@ -96,8 +96,8 @@ FloaterReport run_floaters(const fs::path& scene_dir, const fs::path& out_file,
       view_names.push_back(scene->views()[v].name);
     }
   }
-  const FloaterReport r = measure_floaters(model.model, layout, views, o.floaters);
-  splat::write_text_atomically(out_file, report_json(r, layout, view_names).dump(2) + "\n");
+  const FloaterReport r = measure_floaters(model.model, world, views, o.floaters);
+  splat::write_text_atomically(out_file, report_json(r, world, view_names).dump(2) + "\n");
   return r;
 }
 

@@ -112,8 +112,8 @@ TEST(Generator, HardCasesAreVisible) {
   o.views = 12;
   o.width = 160;
   o.height = 120;
-  const SceneLayout layout = default_layout(o.seed);
-  const RenderedScene r = render_scene(o, layout);
+  const World world = default_world(o.seed);
+  const RenderedScene r = render_scene(o, world);
   std::map<int, size_t> pixels;  // id -> pixels over all views
   bool crates_touch = false;
   for (const splat::IdMap& m : r.instance_maps) {
@@ -124,17 +124,17 @@ TEST(Generator, HardCasesAreVisible) {
         crates_touch |= (a == 2 && b == 3) || (a == 3 && b == 2);
       }
   }
-  for (const SceneObject& obj : layout.objects)
+  for (const SceneObject& obj : world.objects)
     EXPECT_GT(pixels[obj.id], 10u) << obj.name << " never visible";
   EXPECT_TRUE(crates_touch) << "the touching crates never share a boundary in view";
   EXPECT_LT(pixels[7], pixels[1] / 10) << "the marble is small";
 }
 
 TEST(RayTracer, SemiTransparentSurfaceBlendsWhatIsBehind) {
-  SceneLayout layout = default_layout(1);
-  const SceneObject& glass = layout.objects[8];
+  World world = default_world(1);
+  const SceneObject& glass = world.objects[8];
   ASSERT_LT(glass.material.opacity, 1.0);
-  const RayTracer tracer(layout);
+  const RayTracer tracer(world);
   const Eigen::Vector3d eye = glass.position + Eigen::Vector3d(0, 0.1, 2.0);
   const Eigen::Vector3d dir = (glass.position - eye).normalized();
   const Hit front = tracer.intersect(eye, dir);
@@ -168,7 +168,7 @@ TEST(Generator, ThreeDovsLayout) {
   ASSERT_EQ(npy.size(), header + 10 * 17 * 8);
   std::vector<double> row(17);
   std::memcpy(row.data(), npy.data() + header + 17 * 8 * 3, 17 * 8);
-  const auto cams = orbit_cameras(o, default_layout(o.seed));
+  const auto cams = orbit_cameras(o, default_world(o.seed));
   EXPECT_NEAR(row[3], cams[3].center().x(), 1e-12);
   EXPECT_NEAR(row[8], cams[3].center().y(), 1e-12);
   EXPECT_NEAR(row[13], cams[3].center().z(), 1e-12);

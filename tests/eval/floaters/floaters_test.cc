@@ -1,5 +1,5 @@
 // Floaters and contamination against the true surfaces, on Gaussians placed
-// by hand in the default synthetic layout.
+// by hand in the default synthetic world.
 
 #include "eval/floaters/floaters.h"
 
@@ -29,8 +29,8 @@ splat::GaussianModel gaussians(const std::vector<Eigen::Vector3f>& centres,
   return m;
 }
 
-const synth::SceneLayout& layout() {
-  static const synth::SceneLayout l = synth::default_layout(1);
+const synth::World& world() {
+  static const synth::World l = synth::default_world(1);
   return l;
 }
 
@@ -45,7 +45,7 @@ const std::vector<Eigen::Vector3f> kCentres = {
 };
 
 TEST(Floaters, GaussiansAreMatchedToTheirSurfaces) {
-  const SurfaceMatch m = match_surfaces(gaussians(kCentres, {1, 0, 2, 0, 0}), layout(), {});
+  const SurfaceMatch m = match_surfaces(gaussians(kCentres, {1, 0, 2, 0, 0}), world(), {});
   EXPECT_EQ(m.floater, (std::vector<uint8_t>{0, 1, 0, 0, 1}));
   EXPECT_EQ(m.true_object, (std::vector<int32_t>{1, 0, 2, 0, 0}));
   EXPECT_EQ(m.in_region[0], 1);
@@ -56,7 +56,7 @@ TEST(Floaters, GaussiansAreMatchedToTheirSurfaces) {
 TEST(Floaters, TheDistanceDecidesWhatFloats) {
   FloaterOptions far;
   far.distance = 0.3;  // the Gaussian 0.2 above the ball is near enough now
-  const SurfaceMatch m = match_surfaces(gaussians(kCentres, {1, 0, 2, 0, 0}), layout(), far);
+  const SurfaceMatch m = match_surfaces(gaussians(kCentres, {1, 0, 2, 0, 0}), world(), far);
   EXPECT_EQ(m.floater[4], 0);
   EXPECT_EQ(m.true_object[4], 1);
 }
@@ -65,7 +65,7 @@ TEST(Floaters, WrongLabelsAreCountedPerObject) {
   // The floater above the ball carries the ball's label; the ground Gaussian
   // the crate's.
   const FloaterReport r =
-      measure_floaters(gaussians(kCentres, {1, 0, 2, 2, 1}), layout(), {}, FloaterOptions{});
+      measure_floaters(gaussians(kCentres, {1, 0, 2, 2, 1}), world(), {}, FloaterOptions{});
   EXPECT_EQ(r.gaussians, 5u);
   EXPECT_EQ(r.floaters, 2u);
   EXPECT_EQ(r.floaters_labelled, 1u);
@@ -95,7 +95,7 @@ TEST(Floaters, SharesOfThePictureAndOfTheMasks) {
   const splat::Camera camera =
       splat::Camera::look_at((ball + Eigen::Vector3f(0, 0, 3)).cast<double>(), ball.cast<double>(),
                              {0, 1, 0}, 64, 64, 64, 64);
-  const FloaterReport r = measure_floaters(m, layout(), {camera}, FloaterOptions{});
+  const FloaterReport r = measure_floaters(m, world(), {camera}, FloaterOptions{});
   EXPECT_EQ(r.floaters, 1u);
   EXPECT_GT(r.floater_opacity_share, 0.5);  // in front: it takes most of the light
   // One view: its own share is the pooled one.
@@ -109,15 +109,15 @@ TEST(Floaters, SharesOfThePictureAndOfTheMasks) {
 }
 
 TEST(Floaters, SurfacesRoundTripThroughJson) {
-  const synth::SceneLayout back = synth::layout_from_json(synth::layout_to_json(layout()));
-  ASSERT_EQ(back.objects.size(), layout().objects.size());
-  EXPECT_EQ(back.objects[3].shape, layout().objects[3].shape);
-  EXPECT_EQ(back.objects[3].position, layout().objects[3].position);
-  EXPECT_EQ(back.objects[3].half_size, layout().objects[3].half_size);
-  EXPECT_EQ(back.objects[8].material.opacity, layout().objects[8].material.opacity);
-  nlohmann::json bad = synth::layout_to_json(layout());
+  const synth::World back = synth::world_from_json(synth::world_to_json(world()));
+  ASSERT_EQ(back.objects.size(), world().objects.size());
+  EXPECT_EQ(back.objects[3].shape, world().objects[3].shape);
+  EXPECT_EQ(back.objects[3].position, world().objects[3].position);
+  EXPECT_EQ(back.objects[3].half_size, world().objects[3].half_size);
+  EXPECT_EQ(back.objects[8].material.opacity, world().objects[8].material.opacity);
+  nlohmann::json bad = synth::world_to_json(world());
   bad["objects"][0]["shape"] = "torus";
-  EXPECT_THROW(synth::layout_from_json(bad), std::invalid_argument);
+  EXPECT_THROW(synth::world_from_json(bad), std::invalid_argument);
 }
 
 }  // namespace

@@ -18,7 +18,7 @@
 #include "splat/sfm/alignment.h"
 #include "synth/generator.h"
 #include "synth/render_scene.h"
-#include "synth/scene_layout.h"
+#include "synth/world.h"
 #include "tests/test_util.h"
 
 namespace splat {
@@ -28,21 +28,21 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 using testing_util::TempDir;
 
-synth::SynthOptions small_capture(synth::Shipping shipping) {
+synth::SynthOptions small_capture(synth::OutputFormat format) {
   synth::SynthOptions o;
   o.views = 8;
   o.width = 64;
   o.height = 48;
   o.supersample = 1;
   o.num_points = 300;
-  o.shipping = shipping;
+  o.format = format;
   return o;
 }
 
 // The generator's true cameras as a COLMAP model named like the capture.
 ColmapModel true_model(const synth::SynthOptions& o) {
   ColmapModel m;
-  const auto cameras = synth::orbit_cameras(o, synth::default_layout(o.seed));
+  const auto cameras = synth::orbit_cameras(o, synth::default_world(o.seed));
   m.cameras[1] = synth::photo_camera(o, cameras.front());
   for (size_t i = 0; i < cameras.size(); ++i) {
     ColmapImage image;
@@ -58,7 +58,7 @@ ColmapModel true_model(const synth::SynthOptions& o) {
 
 TEST(TransformsJson, NerfstudioPosesAreTheTrueOnesUpToItsAppliedTransform) {
   TempDir dir;
-  synth::SynthOptions o = small_capture(synth::Shipping::kNerfstudio);
+  synth::SynthOptions o = small_capture(synth::OutputFormat::kNerfstudio);
   o.distortion = {-0.05, 0.01, 0.001, -0.002};
   synth::generate_scene(o, dir / "ns", false);
   const TransformsCapture c = read_transforms_json(dir / "ns/transforms.json", dir / "ns/images");
@@ -98,7 +98,7 @@ TEST(TransformsJson, NerfstudioPosesAreTheTrueOnesUpToItsAppliedTransform) {
 
 TEST(TransformsJson, InstantNgpWithoutExtensionsAndWithMissingPhotos) {
   TempDir dir;
-  const synth::SynthOptions o = small_capture(synth::Shipping::kInstantNgp);
+  const synth::SynthOptions o = small_capture(synth::OutputFormat::kInstantNgp);
   synth::generate_scene(o, dir / "ngp", false);
   fs::remove(dir / "ngp/images/frame_00003.jpg");
   const TransformsCapture c = read_transforms_json(dir / "ngp/transforms.json", dir / "ngp/images");
@@ -114,7 +114,7 @@ TEST(TransformsJson, InstantNgpWithoutExtensionsAndWithMissingPhotos) {
 
 TEST(TransformsJson, PhotosLinkedFromElsewhereKeepTheLinksNames) {
   TempDir dir;
-  const synth::SynthOptions o = small_capture(synth::Shipping::kNerfstudio);
+  const synth::SynthOptions o = small_capture(synth::OutputFormat::kNerfstudio);
   synth::generate_scene(o, dir / "capture", false);
   // The scene links each photo of a capture kept elsewhere, under its name.
   fs::create_directories(dir / "scene/images");

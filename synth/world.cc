@@ -1,4 +1,4 @@
-#include "synth/scene_layout.h"
+#include "synth/world.h"
 
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -32,10 +32,10 @@ Eigen::Vector3d vector3(const nlohmann::json& j, const char* field) {
 
 }  // namespace
 
-nlohmann::json layout_to_json(const SceneLayout& layout) {
+nlohmann::json world_to_json(const World& world) {
   const auto array = [](const Eigen::Vector3d& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
   nlohmann::json objects = nlohmann::json::array();
-  for (const SceneObject& o : layout.objects)
+  for (const SceneObject& o : world.objects)
     objects.push_back({{"id", o.id},
                        {"name", o.name},
                        {"shape", shape_name(o.shape)},
@@ -45,17 +45,17 @@ nlohmann::json layout_to_json(const SceneLayout& layout) {
                        {"opacity", o.material.opacity}});
   return {{"objects", objects},
           {"ground_y", 0.0},
-          {"enclosure_radius", layout.enclosure_radius},
-          {"look_at", array(layout.look_at)},
-          {"light_direction", array(layout.light_direction)}};
+          {"enclosure_radius", world.enclosure_radius},
+          {"look_at", array(world.look_at)},
+          {"light_direction", array(world.light_direction)}};
 }
 
-SceneLayout layout_from_json(const nlohmann::json& j) {
+World world_from_json(const nlohmann::json& j) {
   try {
-    SceneLayout layout;
-    layout.enclosure_radius = j.at("enclosure_radius").get<double>();
-    layout.look_at = vector3(j, "look_at");
-    layout.light_direction = vector3(j, "light_direction");
+    World world;
+    world.enclosure_radius = j.at("enclosure_radius").get<double>();
+    world.look_at = vector3(j, "look_at");
+    world.light_direction = vector3(j, "light_direction");
     for (const nlohmann::json& jo : j.at("objects")) {
       SceneObject o;
       o.id = jo.at("id").get<int>();
@@ -69,9 +69,9 @@ SceneLayout layout_from_json(const nlohmann::json& j) {
       o.half_size = vector3(jo, "half_size");
       o.yaw = jo.at("yaw").get<double>();
       o.material.opacity = jo.at("opacity").get<double>();
-      layout.objects.push_back(o);
+      world.objects.push_back(o);
     }
-    return layout;
+    return world;
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument(std::string("surfaces: ") + e.what());
   }
@@ -100,7 +100,7 @@ Material mat(Eigen::Vector3d base, Eigen::Vector3d accent, Pattern p, double fre
 
 }  // namespace
 
-SceneLayout default_layout(uint64_t seed) {
+World default_world(uint64_t seed) {
   std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + 17);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   // Colours vary a little with the seed; hues stay those the names promise.
@@ -109,7 +109,7 @@ SceneLayout default_layout(uint64_t seed) {
     return c;
   };
   using V = Eigen::Vector3d;
-  SceneLayout L;
+  World L;
   L.texture_offset = V(100 * u(rng), 100 * u(rng), 100 * u(rng));
   const double crate_yaw = 0.4;
   const V crate_pos(0.55, 0.30, -0.50);

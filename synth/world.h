@@ -41,7 +41,7 @@ struct SceneObject {
   std::string hard_case;  // empty, or which contamination case it exercises
 };
 
-struct SceneLayout {
+struct World {
   std::vector<SceneObject> objects;
   Eigen::Vector3d light_direction{0.4, 1.0, 0.3};  // towards the light
   double ambient = 0.35;
@@ -61,13 +61,13 @@ struct SceneLayout {
 // The surfaces of a layout as surfaces.json holds them: every object's
 // shape, pose, size and opacity; the ground plane (y = 0) and the dome's
 // radius. Textures are left out: they are not needed to say where a surface is.
-nlohmann::json layout_to_json(const SceneLayout& layout);
+nlohmann::json world_to_json(const World& world);
 // The inverse (textures default). Throws std::invalid_argument naming the
 // field that is missing or wrong.
-SceneLayout layout_from_json(const nlohmann::json& surfaces);
+World world_from_json(const nlohmann::json& surfaces);
 
 // The default scene of ten objects. The seed varies textures and colours, not
 // the placement (objects must not intersect, and the touching pair must touch).
-SceneLayout default_layout(uint64_t seed);
+World default_world(uint64_t seed);
 
 }  // namespace synth
