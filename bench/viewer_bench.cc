@@ -1,7 +1,7 @@
 // The report's 3D viewer at the size issue #26 names: writes the viewer of a
 // scene for a trained-like model of N Gaussians (random values in trained
 // models' ranges, ten object labels) and prints how long that took and the
-// file sizes (model.spz against the PLY). bench/viewer_open.sh then times
+// file sizes (model.spz against the PLY). bench/studies/viewer_open.sh then times
 // opening it in headless Chromium.
 //
 //   viewer_bench SCENE_DIR OUT_DIR [N = 1000000]

@@ -20,7 +20,7 @@ struct TrainRunOptions {
   int checkpoint_every = 1000;
   std::vector<int> ply_at;  // extra iterations with a PLY (the end always has one)
   // Iterations whose checkpoint is also kept as checkpoints/iteration_N.ckpt,
-  // to resume from later (bench/full_schedule.sh times the schedule from them).
+  // to resume from later (bench/studies/full_schedule.sh times the schedule from them).
   std::vector<int> keep_checkpoint_at;
   std::vector<int> test_at;  // iterations with a test evaluation (the end always has one)
   bool resume = false;       // continue from <work>/checkpoints/latest.ckpt

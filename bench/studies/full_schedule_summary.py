@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""What bench/full_schedule.sh's full run has done so far: DIR/full.
+"""What bench/studies/full_schedule.sh's full run has done so far: DIR/full.
 
 The run may have been interrupted and resumed (a session ends, a machine
 restarts): each resumed run starts its clock again and keeps the log's

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The schedule's estimated time from sampled rates (bench/full_schedule.sh).
+"""The schedule's estimated time from sampled rates (bench/studies/full_schedule.sh).
 
 Reads lines "K seconds-per-iteration" (or, with --paired, "K old1 old2 new1
 new2"; with --threads the same, old being 1 thread and new 2) and integrates the rate over the schedule: linearly between the

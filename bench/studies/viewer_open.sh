@@ -5,9 +5,9 @@
 # views built), and to its first settled picture. Software WebGL (SwiftShader)
 # draws far slower than any GPU; the load time is the browser's CPU work.
 #
-#   bench/viewer_open.sh [build dir] [N]
+#   bench/studies/viewer_open.sh [build dir] [N]
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="${1:-$root/build}" n="${2:-1000000}"
 tmp=$(mktemp -d)
 trap 'kill $(jobs -p) 2> /dev/null; rm -rf "$tmp"' EXIT

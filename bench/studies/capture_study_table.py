@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Tables of bench/capture_study.sh's results.jsonl for docs/benchmarks.md.
+"""Tables of bench/studies/capture_study.sh's results.jsonl for docs/benchmarks.md.
 
-    bench/capture_study_table.py <out dir>/results.jsonl
+    bench/studies/capture_study_table.py <out dir>/results.jsonl
 
 Per (condition, variant): the mean over seeds of test PSNR (and the fitted
 right-half PSNR), baseline and dual-opacity oracle mIoU / mBIoU, the margin,

@@ -8,7 +8,7 @@
 # PSNR (and the colour-fitted right-half PSNR), baseline and dual-opacity
 # mIoU / mBIoU and their per-object IoU, and op2gs-floaters' figures.
 #
-#   bench/capture_study.sh <build dir> <out dir> <seeds> <condition>...
+#   bench/studies/capture_study.sh <build dir> <out dir> <seeds> <condition>...
 #
 # A condition is a name and op2gs-synth options, name=options with commas for
 # spaces: clean=  exposure=--exposure,0.25,--white-balance,0.03

@@ -2,7 +2,7 @@
 # A real capture end to end, with exact and with SAM2-like masks side by
 # side (docs/benchmarks.md, "Real captures").
 #
-#   bench/real_capture.sh <build dir> <capture folder> <out dir>
+#   bench/studies/real_capture.sh <build dir> <capture folder> <out dir>
 #
 # The capture folder is laid out as the Tracebot dataset's scenes are
 # (GitHub negarl/Transparent-Object-Pose-Refinement, dataset/scenes/00N):

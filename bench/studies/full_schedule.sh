@@ -3,7 +3,7 @@
 # for. The scene is synthetic (op2gs-synth, 300 views at 986x728 like
 # LERF-Mask's figurines, generated once and cached in DIR/scene).
 #
-#   bench/full_schedule.sh full    BUILD DIR
+#   bench/studies/full_schedule.sh full    BUILD DIR
 #       The paper's schedule once: stage one to 20,000 (checkpoints kept at
 #       2k, 5k, 10k, 15k, 20k), voting, stage two to 30,000 (kept at 25k).
 #       Hours on 2 cores; writes DIR/full/summary.txt (times, peak memory,
@@ -11,21 +11,21 @@
 #       Run it again after an interruption and it continues: finished stages
 #       are skipped, the others resume from their latest checkpoint (every
 #       1,000 iterations). RESTART=1 starts over.
-#   bench/full_schedule.sh summary DIR
+#   bench/studies/full_schedule.sh summary DIR
 #       What the full run has done so far (it may be unfinished): time per
 #       stage summed over its sessions, Gaussians, peak memory, test PSNR.
-#   bench/full_schedule.sh sampled BUILD DIR [THREADS]
+#   bench/studies/full_schedule.sh sampled BUILD DIR [THREADS]
 #       Resumes from each kept checkpoint (and from the SfM points), times
 #       SAMPLE iterations (300), and integrates the rate over the schedule:
 #       the estimated full time. Missing checkpoints are left out.
-#   bench/full_schedule.sh paired  OLD_BUILD NEW_BUILD DIR [THREADS]
+#   bench/studies/full_schedule.sh paired  OLD_BUILD NEW_BUILD DIR [THREADS]
 #       The same with two builds alternated at every checkpoint (old, new,
 #       new, old), so the VM's speed drift cancels in the ratio.
-#   bench/full_schedule.sh threads BUILD DIR
+#   bench/studies/full_schedule.sh threads BUILD DIR
 #       Thread scaling: 1 and 2 threads alternated at every checkpoint.
-#   bench/full_schedule.sh profile BUILD DIR ITERATION
+#   bench/studies/full_schedule.sh profile BUILD DIR ITERATION
 #       perf over SAMPLE iterations resumed at ITERATION, grouped by phase
-#       (bench/full_schedule_phases.py).
+#       (bench/studies/full_schedule_phases.py).
 #
 # Environment: SAMPLE (iterations timed per checkpoint, 300), POINTS (the
 # iterations sampled, "0 2000 5000 10000 15000 20000 25000"), WARMUP
@@ -34,7 +34,7 @@
 # cache warm does not; one epoch, the training views' count, times the warm
 # cache), VIEWS, WIDTH, HEIGHT (the scene, 300 986 728).
 set -euo pipefail
-mode="${1:?usage: bench/full_schedule.sh full|summary|sampled|paired|threads|profile ...}"
+mode="${1:?usage: bench/studies/full_schedule.sh full|summary|sampled|paired|threads|profile ...}"
 shift
 here="$(cd "$(dirname "$0")" && pwd)"
 sample="${SAMPLE:-300}"
@@ -110,7 +110,7 @@ time_from() {  # BUILD DIR K THREADS
     log="$tmp/learn/train_log.jsonl"
   fi
   if [ ! -f "$log" ]; then
-    echo "bench/full_schedule.sh: the run from iteration $k with $1 failed:" >&2
+    echo "bench/studies/full_schedule.sh: the run from iteration $k with $1 failed:" >&2
     tail -3 "$tmp/run.log" >&2
     rm -rf "$tmp"
     return 1
@@ -200,7 +200,7 @@ case "$mode" in
     make_scene "$dir" "$build"
     data="$dir/perf.$k.data"
     # perf follows the stage's threads; the phases are named after the
-    # functions that do their work (bench/full_schedule_phases.py).
+    # functions that do their work (bench/studies/full_schedule_phases.py).
     perf record -F 499 -o "$data" -- "$0" sampled-one "$build" "$dir" "$k" > /dev/null 2>&1
     perf report -i "$data" --no-children --sort dso,sym --stdio 2> /dev/null |
       python3 "$here/full_schedule_phases.py"
@@ -209,7 +209,7 @@ case "$mode" in
     time_from "$1" "$2" "$3" 0
     ;;
   *)
-    echo "bench/full_schedule.sh: unknown mode '$mode' (full, summary, sampled, paired, threads or profile)" >&2
+    echo "bench/studies/full_schedule.sh: unknown mode '$mode' (full, summary, sampled, paired, threads or profile)" >&2
     exit 2
     ;;
 esac
