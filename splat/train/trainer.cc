@@ -5,10 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <sstream>
 
 #include "splat/atomic_file.h"
-#include "splat/binary_io.h"
 #include "splat/dataset_layout.h"
 #include "splat/error.h"
 #include "splat/id_maps.h"
@@ -184,97 +182,131 @@ RenderSettings Trainer::render_settings() const {
 
 void Trainer::train_until(int until,
                           const std::function<void(const IterationStats&)>& on_iteration) {
-  const TrainOptions& o = options_;
   while (iteration_ < until) {
-    const int it = ++iteration_;
     IterationStats st;
-    st.iteration = it;
-    st.lr_position = position_learning_rate(it);
-    if (it % o.sh_increase_every == 0 && sh_degree_ < o.sh_degree) ++sh_degree_;
-    st.sh_degree = sh_degree_;
-
-    const size_t view = next_view();
-    const Camera cam = camera_of(view);
-    scene_->image_into(view, target_);
-    RenderSettings settings = render_settings();
-    settings.camera_gradient = refines_poses() && it >= o.poses.from_iteration;
-    const ObjectMap* objects = learns_instances() ? &object_map(view) : nullptr;
-    if (objects) {
-      st.objects = sample_objects(objects->objects, o.object_loss.objects_per_step, rng_);
-      settings.instance_labels = st.objects;
-      if (protects()) {
-        // Each object's protected Gaussians, whose map reaches sigma* only,
-        // then its others.
-        read_protection();
-        settings.labels = split_labels_;
-        for (int32_t id : st.objects) settings.instance_labels.push_back(id + split_offset_);
-        settings.maps_without_geometry_gradient = int(st.objects.size());
-      }
-    }
-    renderer_.render(model_, cam, settings, render_out_, &render_state_);
-    std::span<const float> shown = render_out_.color;
-    if (compensates_exposure()) {
-      exposed_.resize(render_out_.color.size());
-      exposure_.apply(view, render_out_.color, exposed_);
-      shown = exposed_;
-    }
-    st.loss = image_loss(shown, target_, o.loss, &out_grads_.color, &loss_buffers_);
-    if (objects && protects())
-      st.object_loss = split_object_loss(render_out_.instance_maps, st.objects, objects->ids,
-                                         o.object_loss.weight, &out_grads_.instance_maps,
-                                         o.object_loss.pixel_loss);
-    else if (objects)
-      st.object_loss =
-          object_loss(render_out_.instance_maps, render_out_.instance_map_labels, objects->ids,
-                      o.object_loss.weight, &out_grads_.instance_maps, o.object_loss.pixel_loss);
-    else
-      out_grads_.instance_maps.clear();
-    if (!std::isfinite(st.loss.total) || !std::isfinite(st.object_loss))
-      throw TrainingDiverged(
-          fmt::format("the loss is not finite at iteration {} (view {}); "
-                      "nothing was saved after the last checkpoint",
-                      it, scene_->views()[view].name));
-    st.psnr = 10 * std::log10(1.0 / std::max(st.loss.mse, 1e-20));  // as psnr() computes it
-    if (compensates_exposure()) {
-      // The last iteration of the schedule takes no step, as for the Gaussians.
-      const float lr = it < o.total_iterations ? exposure_learning_rate(it) : 0.f;
-      exposure_.backward_and_step(view, render_out_.color, out_grads_.color, lr,
-                                  o.exposure.regularization);
-    }
-    renderer_.backward(model_, cam, settings, *render_state_, out_grads_, grads_);
-    if (settings.camera_gradient && it < o.total_iterations)
-      poses_.step(view, grads_.camera, pose_learning_rate(it));
-
-    std::array<bool, kParamGroups> skip{};
-    if (it < o.densify_until) {
-      stats_.add(grads_, render_out_.radii);
-      if (it > o.densify_from && it % o.densify_every == 0) {
-        st.densified = densify_and_prune(model_, adam_, stats_, extent_, it > o.opacity_reset_every,
-                                         rng_, o.densify);
-        skip.fill(true);  // every parameter array was replaced
-      }
-      if (it % o.opacity_reset_every == 0) {
-        reset_opacity(model_, adam_);
-        skip[int(ParamGroup::kOpacity)] = true;
-        st.opacity_reset = true;
-      }
-    }
-    if (it < o.total_iterations) {
-      const std::array<float, kParamGroups> lr = {
-          st.lr_position,
-          o.lr_sh_dc,
-          o.lr_sh_rest,
-          o.lr_opacity,
-          o.lr_scale,
-          o.lr_rotation,
-          model_.has_instance_opacity ? o.lr_instance_opacity : 0.f};
-      adam_.step(model_, grads_, lr, skip, sh_degree_, /*read_culled_gradients=*/false);
-      if (objects && protects())
-        keep_in_mask(model_.instance_opacity_logits, model_.opacity_logits, protected_);
-    }
+    const Step step = start_step(st);
+    forward_and_loss(step, st);
+    backward(step, st);
+    optimiser_step(step, st, densify_or_reset(st));
     st.gaussians = model_.size();
     if (on_iteration) on_iteration(st);
   }
+}
+
+// The next iteration's view, learning rate, SH degree and render settings;
+// in stage two, the objects whose maps this step renders.
+Trainer::Step Trainer::start_step(IterationStats& st) {
+  const TrainOptions& o = options_;
+  const int it = ++iteration_;
+  st.iteration = it;
+  st.lr_position = position_learning_rate(it);
+  if (it % o.sh_increase_every == 0 && sh_degree_ < o.sh_degree) ++sh_degree_;
+  st.sh_degree = sh_degree_;
+
+  Step step;
+  step.view = next_view();
+  step.camera = camera_of(step.view);
+  scene_->image_into(step.view, target_);
+  step.settings = render_settings();
+  step.settings.camera_gradient = refines_poses() && it >= o.poses.from_iteration;
+  step.objects = learns_instances() ? &object_map(step.view) : nullptr;
+  if (step.objects) {
+    st.objects = sample_objects(step.objects->objects, o.object_loss.objects_per_step, rng_);
+    step.settings.instance_labels = st.objects;
+    if (protects()) {
+      // Each object's protected Gaussians, whose map reaches sigma* only,
+      // then its others.
+      read_protection();
+      step.settings.labels = split_labels_;
+      for (int32_t id : st.objects) step.settings.instance_labels.push_back(id + split_offset_);
+      step.settings.maps_without_geometry_gradient = int(st.objects.size());
+    }
+  }
+  return step;
+}
+
+// The render, the image loss (through the view's exposure transform) and,
+// in stage two, the object loss; their gradients with respect to the render.
+void Trainer::forward_and_loss(const Step& step, IterationStats& st) {
+  const TrainOptions& o = options_;
+  renderer_.render(model_, step.camera, step.settings, render_out_, &render_state_);
+  std::span<const float> shown = render_out_.color;
+  if (compensates_exposure()) {
+    exposed_.resize(render_out_.color.size());
+    exposure_.apply(step.view, render_out_.color, exposed_);
+    shown = exposed_;
+  }
+  st.loss = image_loss(shown, target_, o.loss, &out_grads_.color, &loss_buffers_);
+  if (step.objects && protects())
+    st.object_loss = split_object_loss(render_out_.instance_maps, st.objects, step.objects->ids,
+                                       o.object_loss.weight, &out_grads_.instance_maps,
+                                       o.object_loss.pixel_loss);
+  else if (step.objects)
+    st.object_loss =
+        object_loss(render_out_.instance_maps, render_out_.instance_map_labels, step.objects->ids,
+                    o.object_loss.weight, &out_grads_.instance_maps, o.object_loss.pixel_loss);
+  else
+    out_grads_.instance_maps.clear();
+  if (!std::isfinite(st.loss.total) || !std::isfinite(st.object_loss))
+    throw TrainingDiverged(
+        fmt::format("the loss is not finite at iteration {} (view {}); "
+                    "nothing was saved after the last checkpoint",
+                    st.iteration, scene_->views()[step.view].name));
+  st.psnr = 10 * std::log10(1.0 / std::max(st.loss.mse, 1e-20));  // as psnr() computes it
+}
+
+// The exposure transform's step, the renderer's backward pass into the
+// Gaussians' gradients, and the camera's correction when poses are refined.
+void Trainer::backward(const Step& step, const IterationStats& st) {
+  const TrainOptions& o = options_;
+  const int it = st.iteration;
+  if (compensates_exposure()) {
+    // The last iteration of the schedule takes no step, as for the Gaussians.
+    const float lr = it < o.total_iterations ? exposure_learning_rate(it) : 0.f;
+    exposure_.backward_and_step(step.view, render_out_.color, out_grads_.color, lr,
+                                o.exposure.regularization);
+  }
+  renderer_.backward(model_, step.camera, step.settings, *render_state_, out_grads_, grads_);
+  if (step.settings.camera_gradient && it < o.total_iterations)
+    poses_.step(step.view, grads_.camera, pose_learning_rate(it));
+}
+
+std::array<bool, kParamGroups> Trainer::densify_or_reset(IterationStats& st) {
+  const TrainOptions& o = options_;
+  const int it = st.iteration;
+  std::array<bool, kParamGroups> skip{};
+  if (it >= o.densify_until) return skip;
+  stats_.add(grads_, render_out_.radii);
+  if (it > o.densify_from && it % o.densify_every == 0) {
+    st.densified = densify_and_prune(model_, adam_, stats_, extent_, it > o.opacity_reset_every,
+                                     rng_, o.densify);
+    skip.fill(true);  // every parameter array was replaced
+  }
+  if (it % o.opacity_reset_every == 0) {
+    reset_opacity(model_, adam_);
+    skip[int(ParamGroup::kOpacity)] = true;
+    st.opacity_reset = true;
+  }
+  return skip;
+}
+
+// Adam's step of every parameter array (none on the schedule's last
+// iteration); in stage two with protection, sigma* kept in its mask.
+void Trainer::optimiser_step(const Step& step, const IterationStats& st,
+                             const std::array<bool, kParamGroups>& skip) {
+  const TrainOptions& o = options_;
+  if (st.iteration >= o.total_iterations) return;
+  const std::array<float, kParamGroups> lr = {
+      st.lr_position,
+      o.lr_sh_dc,
+      o.lr_sh_rest,
+      o.lr_opacity,
+      o.lr_scale,
+      o.lr_rotation,
+      model_.has_instance_opacity ? o.lr_instance_opacity : 0.f};
+  adam_.step(model_, grads_, lr, skip, sh_degree_, /*read_culled_gradients=*/false);
+  if (step.objects && protects())
+    keep_in_mask(model_.instance_opacity_logits, model_.opacity_logits, protected_);
 }
 
 std::vector<ViewMetrics> Trainer::evaluate(const std::vector<size_t>& views,
@@ -309,20 +341,6 @@ std::vector<ViewMetrics> Trainer::evaluate(const std::vector<size_t>& views,
 // ------------------------------------------------------------ checkpoint ---
 // The model first (splat/checkpoint.h), then the trainer's own state.
 
-namespace {
-// Marks the optional exposure section at the end of a checkpoint.
-constexpr std::string_view kExposureTag = "exposure-transforms-v1";
-// Marks the optional pose corrections section.
-constexpr std::string_view kPoseTag = "pose-corrections-v1";
-
-bool all_finite(const GaussianModel& m) {
-  for (int g = 0; g < kParamGroups; ++g)
-    for (float x : group_values(m, ParamGroup(g)))
-      if (!std::isfinite(x)) return false;
-  return true;
-}
-}  // namespace
-
 float Trainer::exposure_learning_rate(int iteration) const {
   const ExposureOptions& e = options_.exposure;
   return float(log_linear_decay(iteration, options_.total_iterations, e.lr_init, e.lr_final));
@@ -335,88 +353,6 @@ PoseStep Trainer::pose_learning_rate(int iteration) const {
   };
   return {float(decay(p.lr_rotation_init, p.lr_rotation_final)),
           float(decay(p.lr_translation_init, p.lr_translation_final) * extent_)};
-}
-
-void Trainer::save_checkpoint(const fs::path& file) const {
-  if (!all_finite(model_))
-    throw TrainingDiverged(
-        fmt::format("the model holds non-finite values at iteration {}; the "
-                    "checkpoint {} was not written",
-                    iteration_, file.string()));
-  std::ostringstream out(std::ios::binary);
-  write_checkpoint_head(out, model_, iteration_, sh_degree_);
-  adam_.save(out);
-  stats_.save(out);
-  std::ostringstream rng;
-  rng << rng_;
-  const std::string rng_state = rng.str();
-  write_vector(out, std::vector<char>(rng_state.begin(), rng_state.end()));
-  std::vector<uint64_t> stack(view_stack_.begin(), view_stack_.end());
-  write_vector(out, stack);
-  std::vector<char> names;
-  for (size_t v : split_.train) {
-    const std::string& n = scene_->views()[v].name;
-    names.insert(names.end(), n.begin(), n.end());
-    names.push_back('\n');
-  }
-  write_vector(out, names);
-  if (compensates_exposure()) {
-    write_vector(out, std::vector<char>(kExposureTag.begin(), kExposureTag.end()));
-    exposure_.save(out);
-  }
-  if (refines_poses()) {
-    write_vector(out, std::vector<char>(kPoseTag.begin(), kPoseTag.end()));
-    poses_.save(out);
-  }
-  write_text_atomically(file, out.str());
-}
-
-void Trainer::load_checkpoint(const fs::path& file) {
-  std::istringstream in(read_text_file(file), std::ios::binary);
-  try {
-    CheckpointModel head = read_checkpoint_head(in, file);
-    iteration_ = head.iteration;
-    sh_degree_ = head.sh_degree;
-    model_ = std::move(head.model);
-    adam_.load(in);
-    stats_.load(in);
-    const std::vector<char> rng_state = read_vector<char>(in);
-    std::istringstream rng(std::string(rng_state.begin(), rng_state.end()));
-    rng >> rng_;
-    const std::vector<uint64_t> stack = read_vector<uint64_t>(in);
-    view_stack_.assign(stack.begin(), stack.end());
-    const std::vector<char> names = read_vector<char>(in);
-    std::string expected;
-    for (size_t v : split_.train) expected += scene_->views()[v].name + "\n";
-    if (std::string(names.begin(), names.end()) != expected)
-      throw InputError(file,
-                       "the checkpoint was made with other training views than this scene has");
-    if (adam_.size() != model_.size() || stats_.count.size() != model_.size())
-      throw InputError(file, "checkpoint arrays disagree in size");
-    for (size_t v : view_stack_)
-      if (v >= scene_->views().size())
-        throw InputError(file, "checkpoint refers to a missing view");
-    // Optional sections, each after its tag.
-    while (in.peek() != std::char_traits<char>::eof()) {
-      const std::vector<char> tag_chars = read_vector<char>(in);
-      const std::string tag(tag_chars.begin(), tag_chars.end());
-      if (tag == kExposureTag) {
-        exposure_.load(in);
-        if (exposure_.size() != scene_->views().size())
-          throw InputError(file, "the checkpoint's exposure transforms are for another scene");
-      } else if (tag == kPoseTag) {
-        poses_.load(in);
-        if (poses_.size() != scene_->views().size())
-          throw InputError(file, "the checkpoint's pose corrections are for another scene");
-      } else {
-        throw InputError(file, "corrupt checkpoint: unknown section after the training state");
-      }
-    }
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw InputError(file, std::string("corrupt checkpoint: ") + e.what());
-  }
 }
 
 }  // namespace splat

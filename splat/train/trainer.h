@@ -179,6 +179,23 @@ class Trainer {
   // The object loss's ID map folder, resolved on first use.
   const std::filesystem::path& id_map_folder();
 
+  // One iteration of train_until, in its phases. A Step is what the phases
+  // of one iteration share.
+  struct Step {
+    size_t view = 0;
+    Camera camera;
+    RenderSettings settings;
+    const ObjectMap* objects = nullptr;  // the view's objects when stage two learns sigma*
+  };
+  Step start_step(IterationStats& st);
+  void forward_and_loss(const Step& step, IterationStats& st);
+  void backward(const Step& step, const IterationStats& st);
+  // Densification and opacity resets; which parameter arrays Adam must not
+  // step (they were replaced or reset).
+  std::array<bool, kParamGroups> densify_or_reset(IterationStats& st);
+  void optimiser_step(const Step& step, const IterationStats& st,
+                      const std::array<bool, kParamGroups>& skip);
+
   TrainOptions options_;
   std::unique_ptr<Scene> scene_;
   ViewSplit split_;
