@@ -13,6 +13,7 @@
 #include "splat/error.h"
 #include "splat/label/object_ply.h"
 #include "splat/label/palette.h"
+#include "splat/label/vote_summary.h"
 #include "splat/ply.h"
 #include "splat/scene.h"
 #include "splat/spz.h"
@@ -76,20 +77,10 @@ int integer_or(const json& j, const char* key, int otherwise) {
   return it != j.end() && it->is_number_integer() ? int(it->get<int64_t>()) : otherwise;
 }
 
-// The objects' names in op2gs-vote's summary (from the ID maps' objects.json).
-std::map<int, std::string> object_names(const json& vote_summary) {
-  std::map<int, std::string> names;
-  if (!vote_summary.is_object()) return names;
-  for (const json& o : vote_summary.value("objects", json::array()))
-    if (o.contains("name") && o["name"].is_string()) names[integer_or(o, "id", -1)] = o["name"];
-  return names;
-}
-
 // Per label: its name, the oracle queries it answers (with their IoU in each
 // method) and the queries query mode chose it for.
 json objects_json(const splat::GaussianModel& m, const json& metrics, const json& queries,
-                  const json& vote_summary) {
-  const std::map<int, std::string> names = object_names(vote_summary);
+                  const std::map<int, std::string>& names) {
   std::map<int, size_t> counts;
   for (int32_t l : m.labels) ++counts[l];
   std::map<int, json> objects;
@@ -198,7 +189,7 @@ fs::path write_viewer(const fs::path& out, const ViewerInput& in) {
                       {"background", {0, 0, 0}},
                       {"cameras", cameras},
                       {"objects", objects_json(m, metrics, read_json_or_null(in.queries),
-                                               read_json_or_null(in.vote_summary))}};
+                                               splat::read_vote_object_names(in.vote_summary))}};
   splat::write_text_atomically(dir / "scene.json", about.dump(1) + "\n");
   return fs::path("viewer") / in.name / "index.html";
 }

@@ -20,6 +20,7 @@
 #include "splat/error.h"
 #include "splat/id_maps.h"
 #include "splat/label/palette.h"
+#include "splat/label/vote_summary.h"
 #include "splat/npy.h"
 #include "splat/ply.h"
 
@@ -48,26 +49,6 @@ struct PreparedView {
   std::vector<int32_t> segments;  // IDs large enough to count as seen (track_ids.h)
   std::exception_ptr error;       // why the view could not be prepared
 };
-
-// Names of the IDs from <id maps>/objects.json: [{"id": 1, "name": ...}] or
-// {"1": "name"}. The file is optional; a file that is there must be right.
-std::map<int, std::string> read_object_names(const fs::path& file) {
-  std::map<int, std::string> names;
-  if (!fs::exists(file)) return names;
-  try {
-    std::ifstream in(file);
-    const json j = json::parse(in);
-    if (j.is_array())
-      for (const auto& o : j) names[o.at("id").get<int>()] = o.at("name").get<std::string>();
-    else if (j.is_object())
-      for (const auto& [k, v] : j.items()) names[std::stoi(k)] = v.get<std::string>();
-  } catch (const std::exception& e) {
-    throw InputError(file, fmt::format("not a list of object names ([{{\"id\": 1, \"name\": "
-                                       "\"mug\"}}] or {{\"1\": \"mug\"}}): {}",
-                                       e.what()));
-  }
-  return names;
-}
 
 // Gaussian centres that vote in the view, as coloured dots over the dimmed photo.
 ImageRGB label_preview(const GaussianModel& model, const Camera& camera, const ImageRGB& photo,
@@ -115,51 +96,6 @@ std::vector<size_t> views_with_maps(const Scene& scene, const std::vector<size_t
   }
   if (used.empty()) throw InputError(folder, "no training view has an ID map");
   return used;
-}
-
-json summary_json(const GaussianModel& model, const LabelVotes& votes,
-                  const std::map<int, size_t>& views_per_id,
-                  const std::map<int, std::string>& names, VoteRunResult& r) {
-  std::map<int, size_t> gaussians_per_label;
-  std::map<int, double> agreement_per_label;
-  size_t unseen = 0, voted = 0;
-  double agreement = 0;
-  for (size_t j = 0; j < model.size(); ++j) {
-    ++gaussians_per_label[model.labels[j]];
-    const uint32_t n = votes.votes(j);
-    if (!n) {
-      ++unseen;
-      continue;
-    }
-    const double a = double(votes.votes_for_label(j)) / n;
-    agreement += a, ++voted;
-    agreement_per_label[model.labels[j]] += a;
-  }
-  const double total = std::max<size_t>(model.size(), 1);
-  r.gaussians = model.size();
-  r.background_share = gaussians_per_label[0] / total;
-  r.unseen_share = unseen / total;
-  r.vote_agreement = voted ? agreement / voted : 0;
-  json objects = json::array();
-  std::map<int, bool> ids;
-  for (const auto& [id, n] : views_per_id) ids[id] = true;
-  for (const auto& [id, n] : gaussians_per_label) ids[id] = true;
-  for (const auto& [id, _] : ids) {
-    const size_t n = gaussians_per_label.count(id) ? gaussians_per_label[id] : 0;
-    if (id != 0 && n) ++r.objects;
-    json o = {{"id", id},
-              {"gaussians", n},
-              {"views", views_per_id.count(id) ? views_per_id.at(id) : 0},
-              {"vote_agreement", n ? json(agreement_per_label[id] / n) : json(nullptr)}};
-    if (names.count(id)) o["name"] = names.at(id);
-    objects.push_back(o);
-  }
-  return {{"gaussians", r.gaussians},
-          {"objects_found", r.objects},
-          {"background_share", r.background_share},
-          {"unseen_share", r.unseen_share},
-          {"vote_agreement", r.vote_agreement},
-          {"objects", objects}};
 }
 
 // Per Gaussian, the share of its votes that went to its label (0: no votes).
@@ -381,8 +317,8 @@ VoteRunResult run_voting(const fs::path& scene_dir, const fs::path& out, const V
   const json merged =
       o.find_merges ? merged_segments_json(run, model.labels, canonical, result) : json();
 
-  json summary = summary_json(model, votes, views_per_id,
-                              read_object_names(run.folder / "objects.json"), result);
+  json summary = vote_summary_json(model, votes, views_per_id,
+                                   read_object_names(run.folder / "objects.json"), result);
   std::vector<double> agreement = label_agreement(votes);
   const std::vector<uint32_t> back = inverse_order(order);
   reorder_gaussians(model, back);
