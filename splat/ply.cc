@@ -1,3 +1,8 @@
+// One format, both directions: the 3DGS PLY (binary little-endian, the
+// reference's property names, op2gs's label and instance opacity beside
+// them) read with every check a user's file needs and written back. Kept in
+// one file, as COLMAP keeps its model I/O, so that the reader and the writer
+// cannot drift apart.
 #include "splat/ply.h"
 
 #include <fmt/format.h>

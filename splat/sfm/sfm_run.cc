@@ -1,3 +1,8 @@
+// The SfM controller: one class whose run() is the sequence of named steps,
+// each a short method (COLMAP's command lines, the photo checks, the scene
+// folder and the resumable-step markers are in files of their own). It is
+// about 400 lines because it has that many steps, not because a step is
+// long.
 #include "splat/sfm/sfm_run.h"
 
 #include <fmt/format.h>
