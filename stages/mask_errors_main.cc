@@ -28,6 +28,17 @@ int main(int argc, char** argv) {
   app.add_option("--persistence", o.sam2.persistence_views,
                  "mean views a miss or leak persists (1: independent views)")
       ->capture_default_str();
+  app.add_option("--border-bias", o.sam2.border_bias,
+                 "each object's mask eroded or dilated in every view by up to this fraction of "
+                 "its radius (a segmenter tight or loose on it throughout)")
+      ->capture_default_str();
+  app.add_option("--lose-small", o.sam2.lose_small_objects,
+                 "share of objects never tracked while small (background wherever they cover "
+                 "less than --small-area of the image)")
+      ->capture_default_str();
+  app.add_option("--small-area", o.sam2.small_object_area,
+                 "what counts as small: a share of the image's area")
+      ->capture_default_str();
   app.add_flag("--tracks", tracks,
                "also the track errors of op2gs-synth --capture: ID switches, merges, late objects");
   return stages::run_stage(app, argc, argv, [&] {

@@ -41,6 +41,16 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--sam2-blobs", o.sam2.spurious_blobs, "mean spurious blobs per view")
       ->capture_default_str();
+  app.add_option("--sam2-border-bias", o.sam2.border_bias,
+                 "each object's mask eroded or dilated in every view by up to this fraction of "
+                 "its radius")
+      ->capture_default_str();
+  app.add_option("--sam2-lose-small", o.sam2.lose_small_objects,
+                 "share of objects never tracked while small (--sam2-small-area of the image)")
+      ->capture_default_str();
+  app.add_option("--sam2-small-area", o.sam2.small_object_area,
+                 "what counts as small: a share of the image's area")
+      ->capture_default_str();
   app.add_option("--sam2-persistence", o.sam2.persistence_views,
                  "mean run of consecutive views over which a miss or leak persists "
                  "(1: independent per view)")

@@ -13,8 +13,10 @@ namespace synth {
 
 void Sam2CorruptionOptions::Check() const {
   for (double v : {strength, boundary_jitter_px, miss_probability, miss_radius, leak_probability,
-                   leak_radius, spurious_blobs, spurious_radius})
+                   leak_radius, spurious_blobs, spurious_radius, border_bias, small_object_area})
     if (!(v >= 0)) throw std::invalid_argument("SAM2 corruption values must be >= 0");
+  if (!(lose_small_objects >= 0 && lose_small_objects <= 1))
+    throw std::invalid_argument("the share of small objects lost must be in [0, 1]");
   if (!(persistence_views >= 1))
     throw std::invalid_argument("SAM2 error persistence must be >= 1 view");
 }
@@ -167,6 +169,69 @@ int nearest_to_box_point(const splat::IdMap& map, const ObjectPixels& px,
   return best;
 }
 
+// What holds for each object over the whole video (Sam2CorruptionOptions'
+// border bias and small objects lost), from its own generator.
+struct VideoErrors {
+  std::map<int, double> bias;  // fraction of the equivalent radius; < 0 erodes
+  std::map<int, bool> lost;    // never tracked while small
+};
+
+VideoErrors draw_video_errors(const std::vector<int>& object_ids, const Sam2CorruptionOptions& o,
+                              uint64_t seed) {
+  VideoErrors v;
+  if (o.border_bias <= 0 && o.lose_small_objects <= 0) return v;
+  Rng rng(seed ^ 0x3c6ef372fe94f82bULL);
+  std::uniform_real_distribution<double> u01(0, 1);
+  for (int id : object_ids) {
+    v.bias[id] = o.strength * o.border_bias * (2 * u01(rng) - 1);
+    v.lost[id] = u01(rng) < std::min(1.0, o.strength * o.lose_small_objects);
+  }
+  return v;
+}
+
+// Erodes (bias < 0) or dilates over the background (bias > 0: pixels that
+// are background in `truth` and in `map`) one object's pixels of `map` by
+// |bias| times its equivalent radius in `truth`.
+void apply_border_bias(splat::IdMap& map, const splat::IdMap& truth, int id, const ObjectPixels& px,
+                       double bias) {
+  const int r = int(std::lround(std::abs(bias) * equivalent_radius(px)));
+  if (r == 0) return;
+  cv::Mat mask(map.height, map.width, CV_8U, cv::Scalar(0));
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x) mask.at<uint8_t>(y, x) = map.at(x, y) == id;
+  const cv::Mat disc = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
+  cv::Mat changed;
+  if (bias < 0)
+    cv::erode(mask, changed, disc);
+  else
+    cv::dilate(mask, changed, disc);
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x) {
+      uint16_t& v = map.at(x, y);
+      const bool in = changed.at<uint8_t>(y, x);
+      if (bias < 0 && v == id && !in) v = 0;
+      if (bias > 0 && v == 0 && truth.at(x, y) == 0 && in) v = uint16_t(id);
+    }
+}
+
+// The whole-video errors of one view, after its per-view errors.
+void apply_video_errors(splat::IdMap& map, const splat::IdMap& truth, const VideoErrors& v,
+                        const Sam2CorruptionOptions& o) {
+  if (v.bias.empty() && v.lost.empty()) return;
+  const double image_area = double(truth.width) * truth.height;
+  for (const auto& [id, px] : collect(truth)) {
+    const auto lost = v.lost.find(id);
+    if (lost != v.lost.end() && lost->second &&
+        px.pixels.size() < o.small_object_area * image_area) {
+      for (uint16_t& value : map.ids)
+        if (value == id) value = 0;
+      continue;
+    }
+    const auto bias = v.bias.find(id);
+    if (bias != v.bias.end()) apply_border_bias(map, truth, id, px, bias->second);
+  }
+}
+
 }  // namespace
 
 splat::IdMap corrupt_like_sam2(const splat::IdMap& truth, const std::vector<int>& object_ids,
@@ -188,6 +253,7 @@ splat::IdMap corrupt_like_sam2(const splat::IdMap& truth, const std::vector<int>
     }
   }
   blobs_and_jitter(map, object_ids, o, rng);
+  apply_video_errors(map, truth, draw_video_errors(object_ids, o, seed), o);
   return map;
 }
 
@@ -198,9 +264,13 @@ std::vector<splat::IdMap> corrupt_sequence_like_sam2(const std::vector<splat::Id
   o.Check();
   std::vector<splat::IdMap> out(truth.size());
   const auto view_seed = [&](size_t i) { return seed * 31337 + i; };
+  const VideoErrors video = draw_video_errors(object_ids, o, seed);
+  Sam2CorruptionOptions per_view = o;  // the whole-video errors are added here, once
+  per_view.border_bias = per_view.lose_small_objects = 0;
   if (o.persistence_views <= 1) {  // independent views
     tbb::parallel_for(size_t(0), truth.size(), [&](size_t i) {
-      out[i] = corrupt_like_sam2(truth[i], object_ids, o, view_seed(i));
+      out[i] = corrupt_like_sam2(truth[i], object_ids, per_view, view_seed(i));
+      if (o.strength > 0) apply_video_errors(out[i], truth[i], video, o);
     });
     return out;
   }
@@ -242,6 +312,7 @@ std::vector<splat::IdMap> corrupt_sequence_like_sam2(const std::vector<splat::Id
       }
       Rng view_rng(view_seed(i));
       blobs_and_jitter(map, object_ids, o, view_rng);
+      apply_video_errors(map, truth[i], video, o);
     }
     out[i] = std::move(map);
   });

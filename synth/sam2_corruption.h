@@ -26,12 +26,27 @@ struct Sam2CorruptionOptions {
   // drawn independently for every view. The share of views with a miss or a
   // leak does not depend on it; blobs and jitter are always per view.
   double persistence_views = 1;
+  // Errors that hold for an object over the whole video (drawn once per
+  // object from the seed, independently of the per-view errors above, so
+  // that turning them on leaves those unchanged):
+  //  - a border bias: each object's mask is eroded or dilated (over the
+  //    background) in every view by a fraction, drawn uniformly from
+  //    [-border_bias, border_bias], of its equivalent radius in that view:
+  //    a segmenter that is tight on a transparent object is tight in every
+  //    frame, and the error is wider on a larger object;
+  //  - small objects lost: with probability lose_small_objects an object is
+  //    one the segmenter never tracks, and it is background in every view
+  //    where it covers less than small_object_area of the image.
+  double border_bias = 0;
+  double lose_small_objects = 0;
+  double small_object_area = 0.002;
 
   void Check() const;  // throws std::invalid_argument for negative values
 };
 
 // One view. object_ids: the IDs that exist in the scene (spurious blobs take
-// one of them). Ignores persistence_views.
+// one of them). Ignores persistence_views; the whole-video errors are drawn
+// from `seed` as for a video of this one view.
 splat::IdMap corrupt_like_sam2(const splat::IdMap& truth, const std::vector<int>& object_ids,
                                const Sam2CorruptionOptions& options, uint64_t seed);
 

@@ -171,5 +171,75 @@ TEST(Sam2Corruption, PersistentMissesFollowTheObjectOverRuns) {
   EXPECT_GT(persistent_same, persistent_missed * 7 / 10);
 }
 
+Sam2CorruptionOptions no_per_view_errors() {
+  Sam2CorruptionOptions o;
+  o.boundary_jitter_px = o.miss_probability = o.leak_probability = o.spurious_blobs = 0;
+  return o;
+}
+
+size_t area(const splat::IdMap& m, int id) {
+  return size_t(std::count(m.ids.begin(), m.ids.end(), uint16_t(id)));
+}
+
+// A border bias holds for an object in every view: tight objects stay
+// tight, loose ones loose, by an amount that grows with the object.
+TEST(Sam2Corruption, BorderBiasIsTheSameSignForAnObjectInEveryView) {
+  Sam2CorruptionOptions o = no_per_view_errors();
+  o.border_bias = 0.2;
+  const std::vector<splat::IdMap> truth = moving_blocks(12);
+  int tight = 0, loose = 0;
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    const std::vector<splat::IdMap> out = corrupt_sequence_like_sam2(truth, {1, 2, 3}, o, seed);
+    for (int id : {1, 2}) {
+      int shrunk = 0, grown = 0;
+      for (size_t i = 0; i < truth.size(); ++i) {
+        shrunk += area(out[i], id) < area(truth[i], id);
+        grown += area(out[i], id) > area(truth[i], id);
+      }
+      EXPECT_TRUE(shrunk == 0 || grown == 0) << "object " << id << " seed " << seed;
+      tight += shrunk == int(truth.size()), loose += grown == int(truth.size());
+    }
+  }
+  EXPECT_GT(tight, 0);
+  EXPECT_GT(loose, 0);
+  // Dilation takes only background: the neighbour keeps its own pixels.
+  o.border_bias = 1;
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    const splat::IdMap m = corrupt_like_sam2(blocks(), {1, 2, 3}, o, seed);
+    for (size_t i = 0; i < m.ids.size(); ++i)
+      if (blocks().ids[i] != 0) ASSERT_TRUE(m.ids[i] == blocks().ids[i] || m.ids[i] == 0);
+  }
+}
+
+// A lost small object is background in every view where it is small, and a
+// large object is never lost.
+TEST(Sam2Corruption, SmallObjectsLostStayLostOverTheVideo) {
+  Sam2CorruptionOptions o = no_per_view_errors();
+  o.lose_small_objects = 1;
+  o.small_object_area = 0.01;  // the 8 x 8 square (0.3% of the image), not the rectangles
+  const std::vector<splat::IdMap> truth(5, blocks());
+  const std::vector<splat::IdMap> out = corrupt_sequence_like_sam2(truth, {1, 2, 3}, o, 3);
+  for (const splat::IdMap& m : out) {
+    EXPECT_EQ(area(m, 3), 0u);
+    EXPECT_EQ(area(m, 1), area(blocks(), 1));
+    EXPECT_EQ(area(m, 2), area(blocks(), 2));
+  }
+  o.lose_small_objects = 0;
+  for (const splat::IdMap& m : corrupt_sequence_like_sam2(truth, {1, 2, 3}, o, 3))
+    EXPECT_EQ(m.ids, blocks().ids);
+}
+
+// Turning the whole-video errors on leaves the per-view errors as they were
+// drawn: a map's change is the per-view one plus the bias, nothing else.
+TEST(Sam2Corruption, VideoErrorsOffChangeNothing) {
+  const std::vector<splat::IdMap> truth = moving_blocks(6);
+  Sam2CorruptionOptions a, b;
+  b.border_bias = 0;
+  b.lose_small_objects = 0;
+  const auto x = corrupt_sequence_like_sam2(truth, {1, 2, 3}, a, 9);
+  const auto y = corrupt_sequence_like_sam2(truth, {1, 2, 3}, b, 9);
+  for (size_t i = 0; i < x.size(); ++i) EXPECT_EQ(x[i].ids, y[i].ids);
+}
+
 }  // namespace
 }  // namespace synth
