@@ -208,32 +208,4 @@ ObjectEmbeddings run_embed(const fs::path& scene_dir, const fs::path& out,
   return result;
 }
 
-ObjectEmbeddings read_object_embeddings(const fs::path& file) {
-  ObjectEmbeddings e;
-  try {
-    const json j = json::parse(read_text_file(file));
-    e.clip_dir = j.at("clip").get<std::string>();
-    for (const json& obj : j.at("objects")) {
-      ObjectEmbedding o;
-      o.id = json_integer<int32_t>(obj.at("id"), file, "id");
-      for (const json& v : obj.at("views"))
-        o.views.push_back({v.at("view").get<std::string>(),
-                           json_integer<int64_t>(v.at("area"), file, "area"),
-                           v.at("crop").get<std::string>()});
-      const auto values = obj.at("embedding").get<std::vector<float>>();
-      o.embedding = Eigen::Map<const Eigen::VectorXf>(values.data(), Eigen::Index(values.size()));
-      e.objects.push_back(std::move(o));
-    }
-    if (j.contains("unseen")) e.unseen = json_integers<int32_t>(j["unseen"], file, "unseen");
-  } catch (const json::exception& ex) {
-    throw InputError(file, std::string("not an op2gs-embed embeddings file: ") + ex.what());
-  }
-  if (e.objects.empty()) throw InputError(file, "holds no object embeddings");
-  const Eigen::Index size = e.objects.front().embedding.size();
-  for (const ObjectEmbedding& o : e.objects)
-    if (o.embedding.size() != size || size == 0)
-      throw InputError(file, fmt::format("object {}: embedding size differs", o.id));
-  return e;
-}
-
 }  // namespace splat

@@ -9,8 +9,8 @@
 #include "splat/clip/clip_model.h"
 #include "splat/clip/tokenizer.h"
 #include "splat/error.h"
-#include "splat/query/embed_run.h"
 #include "splat/json_integer.h"
+#include "splat/query/embed_run.h"
 
 namespace splat {
 namespace fs = std::filesystem;
@@ -107,22 +107,6 @@ QueryResults run_query(const fs::path& out, const QueryRunOptions& o) {
   write_text_atomically(out / "query.json", j.dump(2) + "\n");
   write_text_atomically(out / "similarity.csv", csv);
   return results;
-}
-
-QueryResults read_query_results(const fs::path& file) {
-  QueryResults r;
-  try {
-    const json j = json::parse(read_text_file(file));
-    r.objects = json_integers<int32_t>(j.at("objects"), file, "objects");
-    if (j.contains("clip")) r.full_size_clip = j["clip"].at("full_size").get<bool>();
-    for (const json& q : j.at("queries"))
-      r.answers.push_back(
-          {q.at("query").get<std::string>(), json_integer<int32_t>(q.at("object"), file, "object"),
-           q.at("similarity").get<float>(), q.at("similarities").get<std::vector<float>>()});
-  } catch (const json::exception& e) {
-    throw InputError(file, std::string("not an op2gs-query result: ") + e.what());
-  }
-  return r;
 }
 
 }  // namespace splat
