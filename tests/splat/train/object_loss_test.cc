@@ -217,6 +217,8 @@ struct FloaterScene {
   IdMap ids{48, 48};  // the exact mask
   ImageRGB target{48, 48};
   static constexpr size_t kFloater = 2;
+  // The split labels the last object_settings(keep) rendered with.
+  mutable std::vector<int32_t> split;
 
   FloaterScene() {
     add({-1.f, 0, 4}, {1.f, 2.f, 0.05f}, 0.99f, 1, {1, 0, 0});     // object 1
@@ -257,7 +259,8 @@ struct FloaterScene {
     RenderSettings s = colour_settings();
     s.instance_labels = {1, 2};
     if (keep) {
-      s.labels = split_labels(m.labels, *keep, 3);
+      split = split_labels(m.labels, *keep, 3);  // s.labels views it: it must outlive s
+      s.labels = split;
       s.instance_labels = {1, 2, 4, 5};
       s.maps_without_geometry_gradient = 2;
     }
