@@ -4,6 +4,7 @@
 // (docs/synthetic.md).
 
 #include "stages/common.h"
+#include "stages/mask_error_options.h"
 #include "synth/mask_errors_run.h"
 
 int main(int argc, char** argv) {
@@ -15,30 +16,7 @@ int main(int argc, char** argv) {
       ->required();
   app.add_option("out", out, "folder to write the maps with errors into")->required();
   app.add_option("--seed", o.seed, "seed of every draw")->capture_default_str();
-  app.add_option("--strength", o.sam2.strength, "scales every mask error (0 = exact)")
-      ->capture_default_str();
-  app.add_option("--jitter", o.sam2.boundary_jitter_px, "boundary jitter amplitude in pixels")
-      ->capture_default_str();
-  app.add_option("--miss", o.sam2.miss_probability, "per object and view: a missed part")
-      ->capture_default_str();
-  app.add_option("--leak", o.sam2.leak_probability, "per object and view: a leak onto a neighbour")
-      ->capture_default_str();
-  app.add_option("--blobs", o.sam2.spurious_blobs, "mean spurious blobs per view")
-      ->capture_default_str();
-  app.add_option("--persistence", o.sam2.persistence_views,
-                 "mean views a miss or leak persists (1: independent views)")
-      ->capture_default_str();
-  app.add_option("--border-bias", o.sam2.border_bias,
-                 "each object's mask eroded or dilated in every view by up to this fraction of "
-                 "its radius (a segmenter tight or loose on it throughout)")
-      ->capture_default_str();
-  app.add_option("--lose-small", o.sam2.lose_small_objects,
-                 "share of objects never tracked while small (background wherever they cover "
-                 "less than --small-area of the image)")
-      ->capture_default_str();
-  app.add_option("--small-area", o.sam2.small_object_area,
-                 "what counts as small: a share of the image's area")
-      ->capture_default_str();
+  stages::add_mask_error_options(app, o.sam2, "");
   app.add_flag("--tracks", tracks,
                "also the track errors of op2gs-synth --capture: ID switches, merges, late objects");
   return stages::run_stage(app, argc, argv, [&] {

@@ -2,6 +2,7 @@
 // optionally 3DOVS) with exact and SAM2-like corrupted instance maps.
 
 #include "stages/common.h"
+#include "stages/mask_error_options.h"
 #include "synth/generator.h"
 
 int main(int argc, char** argv) {
@@ -29,32 +30,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--no-sparse", no_sparse, "write no sparse/ model (to test SfM from scratch)");
   app.add_option("--3dovs", o.ovs_dir, "also write the scene in the 3DOVS layout to this folder");
-  app.add_option("--sam2-strength", o.sam2.strength, "scales every SAM2 corruption (0 = exact)")
-      ->capture_default_str();
-  app.add_option("--sam2-jitter", o.sam2.boundary_jitter_px, "boundary jitter amplitude in pixels")
-      ->capture_default_str();
-  app.add_option("--sam2-miss", o.sam2.miss_probability,
-                 "chance per object and view of a missed part")
-      ->capture_default_str();
-  app.add_option("--sam2-leak", o.sam2.leak_probability,
-                 "chance per object and view of a leak onto a neighbour")
-      ->capture_default_str();
-  app.add_option("--sam2-blobs", o.sam2.spurious_blobs, "mean spurious blobs per view")
-      ->capture_default_str();
-  app.add_option("--sam2-border-bias", o.sam2.border_bias,
-                 "each object's mask eroded or dilated in every view by up to this fraction of "
-                 "its radius")
-      ->capture_default_str();
-  app.add_option("--sam2-lose-small", o.sam2.lose_small_objects,
-                 "share of objects never tracked while small (--sam2-small-area of the image)")
-      ->capture_default_str();
-  app.add_option("--sam2-small-area", o.sam2.small_object_area,
-                 "what counts as small: a share of the image's area")
-      ->capture_default_str();
-  app.add_option("--sam2-persistence", o.sam2.persistence_views,
-                 "mean run of consecutive views over which a miss or leak persists "
-                 "(1: independent per view)")
-      ->capture_default_str();
+  stages::add_mask_error_options(app, o.sam2, "sam2-");
   std::string format = "op2gs";
   app.add_option("--as", format,
                  "ship the scene as: op2gs (its own layout), lerf-mask-download (Gaussian "
