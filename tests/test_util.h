@@ -2,11 +2,15 @@
 // Helpers shared by the tests: temporary folders, small file I/O, one-view
 // COLMAP models.
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -62,6 +66,45 @@ inline void write_file(const std::filesystem::path& p, const std::string& bytes)
 inline std::string read_file(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// A folder of read-only test data that `make` fills once and every process
+// of this test binary then shares: ctest runs each test in a process of its
+// own, so a scene made per process is made once per test. It lives beside
+// the binary, under a name holding the binary's size and time, so a rebuilt
+// binary makes it again; a lock makes a concurrent process wait for the
+// first instead of making it twice.
+inline std::filesystem::path shared_test_data(
+    const std::string& name, const std::function<void(const std::filesystem::path&)>& make) {
+  namespace fs = std::filesystem;
+  const fs::path exe = fs::read_symlink("/proc/self/exe");
+  const auto stamp = fs::last_write_time(exe).time_since_epoch().count();
+  const fs::path root = exe.parent_path() / "test_data";
+  const fs::path dir = root / (exe.filename().string() + "_" + name + "_" +
+                               std::to_string(fs::file_size(exe)) + "_" + std::to_string(stamp));
+  fs::create_directories(root);
+  const fs::path lock_path = dir.string() + ".lock";
+  const int lock = ::open(lock_path.c_str(), O_CREAT | O_RDWR, 0644);
+  if (lock < 0 || ::flock(lock, LOCK_EX) != 0)
+    throw std::runtime_error("cannot lock " + lock_path.string());
+  try {
+    if (!fs::exists(dir / ".complete")) {
+      fs::remove_all(dir);
+      // The data of earlier builds of this binary goes.
+      const std::string prefix = exe.filename().string() + "_" + name + "_";
+      for (const auto& old : fs::directory_iterator(root))
+        if (old.path().filename().string().starts_with(prefix) && old.path() != dir &&
+            old.path() != lock_path)
+          fs::remove_all(old.path());
+      make(dir);
+      write_file(dir / ".complete", "");
+    }
+  } catch (...) {
+    ::close(lock);
+    throw;
+  }
+  ::close(lock);
+  return dir;
 }
 
 // A COLMAP model of one image, `name`, seen by `camera` from the origin.

@@ -29,6 +29,7 @@
 #include "splat/work_layout.h"
 #include "synth/generator.h"
 #include "tests/test_util.h"
+#include "tests/tiny_clip.h"
 #include "tests/tiny_scene.h"
 
 namespace splat {
@@ -264,7 +265,7 @@ TEST(StageTwo, PhotoGeometryMasksMatchTheViewsWhenThePhotosHaveNoDistortion) {
 TEST(StageTwo, EmbedsObjectsAnswersQueriesAndScoresQueryMode) {
   TempDir a;
   run_training(scene(), a / "learn", learn_options(320));
-  const fs::path clip = fs::path(OP2GS_SOURCE_DIR) / "tests/fixtures/tiny_clip";
+  const fs::path clip = testing_util::tiny_clip_dir();
   EmbedRunOptions e;
   e.model = a / "learn/checkpoints/latest.ckpt";
   e.clip_dir = clip;

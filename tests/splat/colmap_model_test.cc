@@ -144,7 +144,7 @@ TEST(ColmapModel, DistortedCameraIsRejectedWithUndistortionAdvice) {
 }
 
 // Every malformed input throws InputError whose message names the bad file.
-void expect_rejected(const std::filesystem::path& dir, const std::string& file) {
+void expect_model_rejected(const std::filesystem::path& dir, const std::string& file) {
   try {
     read_colmap_model(dir);
     FAIL() << "expected InputError for " << file;
@@ -164,7 +164,7 @@ TEST(ColmapModel, TruncatedBinaryFilesAreRejected) {
     const std::string bytes = read_file(dir / f);
     for (size_t cut : {size_t(3), bytes.size() / 2, bytes.size() - 1}) {
       write_file(copy / f, bytes.substr(0, cut));
-      expect_rejected(copy.path(), f);
+      expect_model_rejected(copy.path(), f);
     }
   }
 }
@@ -175,7 +175,7 @@ TEST(ColmapModel, HugeCountIsRejectedWithoutAllocating) {
   std::string bytes = read_file(dir / "points3D.bin");
   bytes[7] = char(0x7f);  // count = 2^62-ish
   write_file(dir / "points3D.bin", bytes);
-  expect_rejected(dir.path(), "points3D.bin");
+  expect_model_rejected(dir.path(), "points3D.bin");
 }
 
 TEST(ColmapModel, MalformedTextIsRejected) {
@@ -197,15 +197,15 @@ TEST(ColmapModel, MalformedTextIsRejected) {
     write_file(dir / "points3D.txt", "");
     write_file(dir / file, text);
     SCOPED_TRACE(text);
-    expect_rejected(dir.path(), file == "images.txt" && text.find(" 7 ") != std::string::npos
-                                    ? "images"
-                                    : file);
+    expect_model_rejected(dir.path(), file == "images.txt" && text.find(" 7 ") != std::string::npos
+                                          ? "images"
+                                          : file);
   }
 }
 
 TEST(ColmapModel, MissingModelNamesTheFolder) {
   TempDir dir;
-  expect_rejected(dir.path(), dir.path().string());
+  expect_model_rejected(dir.path(), dir.path().string());
 }
 
 }  // namespace

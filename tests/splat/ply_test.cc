@@ -2,9 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include <limits>
-
 #include <cstring>
+#include <limits>
 #include <random>
 
 #include "splat/error.h"
@@ -34,7 +33,7 @@ GaussianModel random_model(size_t n, bool op2gs, unsigned seed = 1) {
   return m;
 }
 
-void expect_rejected(const std::filesystem::path& file, const std::string& why_part) {
+void expect_ply_rejected(const std::filesystem::path& file, const std::string& why_part) {
   try {
     read_gaussian_ply(file);
     FAIL() << "expected InputError";
@@ -146,9 +145,9 @@ TEST(Ply, TruncatedBinaryIsRejected) {
   write_gaussian_ply(dir / "m.ply", random_model(10, true));
   const std::string bytes = read_file(dir / "m.ply");
   write_file(dir / "cut.ply", bytes.substr(0, bytes.size() - 5));
-  expect_rejected(dir / "cut.ply", "truncated");
+  expect_ply_rejected(dir / "cut.ply", "truncated");
   write_file(dir / "nohdr.ply", bytes.substr(0, bytes.find("property float opacity")));
-  expect_rejected(dir / "nohdr.ply", "end_header");
+  expect_ply_rejected(dir / "nohdr.ply", "end_header");
 }
 
 TEST(Ply, LyingVertexCountIsRejected) {
@@ -157,7 +156,7 @@ TEST(Ply, LyingVertexCountIsRejected) {
   std::string bytes = read_file(dir / "m.ply");
   bytes.replace(bytes.find("vertex 3"), 8, "vertex 9999999999");
   write_file(dir / "m.ply", bytes);
-  expect_rejected(dir / "m.ply", "truncated");
+  expect_ply_rejected(dir / "m.ply", "truncated");
 }
 
 TEST(Ply, NanOrInfiniteParametersAreCounted) {
@@ -167,8 +166,9 @@ TEST(Ply, NanOrInfiniteParametersAreCounted) {
   m.log_scales[3 * 7] = std::numeric_limits<float>::infinity();
   m.opacity_logits[7] = -std::numeric_limits<float>::infinity();
   write_gaussian_ply(dir / "m.ply", m);
-  expect_rejected(dir / "m.ply", "2 of 10 Gaussians have NaN or infinite parameters (the first: "
-                                 "vertex 2)");
+  expect_ply_rejected(dir / "m.ply",
+                      "2 of 10 Gaussians have NaN or infinite parameters (the first: "
+                      "vertex 2)");
 }
 
 TEST(Ply, MalformedFilesAreRejected) {
@@ -206,9 +206,9 @@ TEST(Ply, MalformedFilesAreRejected) {
   for (const auto& [name, text, why] : cases) {
     write_file(dir / name, text);
     SCOPED_TRACE(name);
-    expect_rejected(dir / name, why);
+    expect_ply_rejected(dir / name, why);
   }
-  expect_rejected(dir / "does_not_exist.ply", "cannot open");
+  expect_ply_rejected(dir / "does_not_exist.ply", "cannot open");
 }
 
 TEST(Ply, FailedWriteLeavesNoFile) {

@@ -14,6 +14,7 @@
 #include "splat/clip/tokenizer.h"
 #include "splat/error.h"
 #include "tests/test_util.h"
+#include "tests/tiny_clip.h"
 
 namespace splat {
 namespace {
@@ -21,15 +22,14 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-const fs::path kFixture = fs::path(OP2GS_SOURCE_DIR) / "tests" / "fixtures" / "tiny_clip";
-
 const json& reference() {
-  static const json r = json::parse(read_text_file(kFixture / "reference.json"));
+  static const json r =
+      json::parse(read_text_file(testing_util::tiny_clip_dir() / "reference.json"));
   return r;
 }
 
 const ClipModel& tiny_model() {
-  static const ClipModel m = ClipModel::load(ClipFiles::in(kFixture));
+  static const ClipModel m = ClipModel::load(ClipFiles::in(testing_util::tiny_clip_dir()));
   return m;
 }
 
@@ -42,7 +42,8 @@ double max_abs_difference(const Eigen::VectorXf& a, const std::vector<double>& b
 }
 
 TEST(ClipTokenizer, MatchesReferenceTokenIdsOnTrickyStrings) {
-  const ClipTokenizer tokenizer(kFixture / "vocab.json", kFixture / "merges.txt");
+  const ClipTokenizer tokenizer(testing_util::tiny_clip_dir() / "vocab.json",
+                                testing_util::tiny_clip_dir() / "merges.txt");
   size_t checked = 0;
   for (const json& t : reference()["tokens"]) {
     const std::string text = t["text"];
@@ -65,7 +66,8 @@ TEST(ClipModel, ImageEncoderMatchesPyTorchReference) {
 
 TEST(ClipModel, TextEncoderMatchesPyTorchReference) {
   const ClipModel& model = tiny_model();
-  const ClipTokenizer tokenizer(kFixture / "vocab.json", kFixture / "merges.txt");
+  const ClipTokenizer tokenizer(testing_util::tiny_clip_dir() / "vocab.json",
+                                testing_util::tiny_clip_dir() / "merges.txt");
   for (const json& text : reference()["texts"]) {
     const std::vector<int32_t> ids = tokenizer.encode(text["text"].get<std::string>());
     EXPECT_EQ(ids, text["ids"].get<std::vector<int32_t>>());

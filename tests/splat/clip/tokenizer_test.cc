@@ -6,21 +6,22 @@
 
 #include "splat/error.h"
 #include "tests/test_util.h"
+#include "tests/tiny_clip.h"
 
 namespace splat {
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kFixture = fs::path(OP2GS_SOURCE_DIR) / "tests" / "fixtures" / "tiny_clip";
-
 const ClipTokenizer& tokenizer() {
-  static const ClipTokenizer t(kFixture / "vocab.json", kFixture / "merges.txt");
+  static const ClipTokenizer t(testing_util::tiny_clip_dir() / "vocab.json",
+                               testing_util::tiny_clip_dir() / "merges.txt");
   return t;
 }
 
 TEST(ClipTokenizer, TruncatesAt77TokensEndingWithEndOfText) {
-  const ClipTokenizer tokenizer(kFixture / "vocab.json", kFixture / "merges.txt");
+  const ClipTokenizer tokenizer(testing_util::tiny_clip_dir() / "vocab.json",
+                                testing_util::tiny_clip_dir() / "merges.txt");
   std::string text;
   for (int i = 0; i < 100; ++i) text += "chair ";
   const std::vector<int32_t> ids = tokenizer.encode(text);
@@ -44,12 +45,13 @@ TEST(ClipTokenizer, MissingOrMalformedFilesNameTheFile) {
   const fs::path dir = tmp.path();
   std::ofstream(dir / "vocab.json") << "{\"a\": 1";
   try {
-    ClipTokenizer(dir / "vocab.json", kFixture / "merges.txt");
+    ClipTokenizer(dir / "vocab.json", testing_util::tiny_clip_dir() / "merges.txt");
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("vocab.json"), std::string::npos);
   }
-  EXPECT_THROW(ClipTokenizer(kFixture / "vocab.json", dir / "none.txt"), InputError);
+  EXPECT_THROW(ClipTokenizer(testing_util::tiny_clip_dir() / "vocab.json", dir / "none.txt"),
+               InputError);
 }
 
 TEST(ClipTokenizer, SplitsContractionsLettersDigitsAndSymbols) {

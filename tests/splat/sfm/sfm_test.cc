@@ -31,33 +31,41 @@ constexpr size_t kViews = 12;
 
 // The first 12 views of the default scene (40 views around the orbit, 9
 // degrees apart, 320x240) without sparse/, the same views in the 3DOVS
-// layout, and the true model of all 40.
+// layout, and the true model of all 40. Made once for all the tests of this
+// binary (it takes longer than most of them).
 struct SfmScene {
   fs::path scene, truth, ovs;
   double orbit_radius;
 };
+synth::SynthOptions sfm_scene_options() {
+  synth::SynthOptions o;
+  o.supersample = 2;
+  return o;
+}
+void make_sfm_scene(const fs::path& d) {
+  synth::SynthOptions o = sfm_scene_options();
+  o.ovs_dir = d / "ovs_all";
+  synth::generate_scene(o, d / "full", true);
+  for (size_t i = 0; i < kViews; ++i) {
+    const std::string name = fmt::format("frame_{:05d}.png", i);
+    for (const char* folder : {"images", "sam2"}) {
+      fs::create_directories(d / "scene" / folder);
+      fs::copy_file(d / "full" / folder / name, d / "scene" / folder / name);
+    }
+    fs::create_directories(d / "ovs" / "images");
+    const std::string ovs_name = fmt::format("{:02d}.png", i);
+    fs::copy_file(d / "ovs_all/images" / ovs_name, d / "ovs/images" / ovs_name);
+  }
+  std::vector<size_t> shape;
+  std::vector<double> poses = read_npy(d / "ovs_all/poses_bounds.npy", &shape);
+  poses.resize(kViews * 17);
+  write_npy_f64(d / "ovs/poses_bounds.npy", poses, {kViews, 17});
+}
 const SfmScene& sfm_scene() {
   static const SfmScene s = [] {
-    const fs::path d = testing_util::process_temp_dir("sfm");
-    synth::SynthOptions o;
-    o.supersample = 2;
-    o.ovs_dir = d / "ovs_all";
-    synth::generate_scene(o, d / "full", true);
-    for (size_t i = 0; i < kViews; ++i) {
-      const std::string name = fmt::format("frame_{:05d}.png", i);
-      for (const char* folder : {"images", "sam2"}) {
-        fs::create_directories(d / "scene" / folder);
-        fs::copy_file(d / "full" / folder / name, d / "scene" / folder / name);
-      }
-      fs::create_directories(d / "ovs" / "images");
-      const std::string ovs_name = fmt::format("{:02d}.png", i);
-      fs::copy_file(d / "ovs_all/images" / ovs_name, d / "ovs/images" / ovs_name);
-    }
-    std::vector<size_t> shape;
-    std::vector<double> poses = read_npy(d / "ovs_all/poses_bounds.npy", &shape);
-    poses.resize(kViews * 17);
-    write_npy_f64(d / "ovs/poses_bounds.npy", poses, {kViews, 17});
-    return SfmScene{d / "scene", d / "full" / "sparse" / "0", d / "ovs", o.orbit_radius};
+    const fs::path d = testing_util::shared_test_data("sfm_scene", make_sfm_scene);
+    return SfmScene{d / "scene", d / "full" / "sparse" / "0", d / "ovs",
+                    sfm_scene_options().orbit_radius};
   }();
   return s;
 }
