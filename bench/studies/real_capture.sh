@@ -16,7 +16,8 @@
 #      photos), transforms.json (the poses, OpenGL axes), every 8th view held
 #      out (images_train/ lists the rest), test_mask/<k>/<object>.png (the
 #      dataset's masks of the test views), object_mask/ (op2gs-masks on the
-#      dataset's masks); the masks with errors are made in step 4;
+#      dataset's masks) and object_mask_<condition>/ (op2gs-mask-errors on
+#      those, per condition);
 #   2. op2gs-sfm --import transforms.json (COLMAP triangulates the points);
 #   3. stage one once (op2gs-train), shared by every condition;
 #   4. per condition (exact, sam2like, video) and variant: op2gs-vote, op2gs-learn,
@@ -65,6 +66,22 @@ step() {
     fail "step $label failed (log: $log)"
   fi
   echo "  $label: $((SECONDS - start)) s"
+}
+
+# Sets `maps` (the ID map folder) and `errors` (op2gs-mask-errors' options)
+# of a condition.
+condition_maps() {
+  case "$1" in
+    exact) maps=object_mask errors=() ;;
+    # shellcheck disable=SC2206
+    sam2like) maps=object_mask_sam2like errors=(${MASK_ERRORS:-}) ;;
+    # Fixed before it was measured: the per-view errors at their defaults,
+    # each lasting three views, every object's mask systematically tight or
+    # loose by up to a tenth of its radius, a quarter of the objects lost
+    # while small, and the track errors (docs/synthetic.md).
+    video) maps=object_mask_video errors=(--persistence 3 --border-bias 0.1 --lose-small 0.25 --tracks) ;;
+    *) fail "unknown condition $1 (exact, sam2like, video)" ;;
+  esac
 }
 
 # ---------------------------------------------------------------- 1. the scene
@@ -118,6 +135,16 @@ if [ ! -f "$data/transforms.json" ]; then
     --pattern '{*}_{object}_{frame}.png'
   mv "$data/transforms.json.tmp" "$data/transforms.json"
 fi
+# The masks with errors of each condition, made once from the exact ones.
+for condition in $conditions; do
+  condition_maps "$condition"
+  if [ ! -d "$data/$maps" ]; then
+    step "mask-errors-$condition" "$bin/op2gs-mask-errors" "$data/object_mask" \
+      "$data/$maps.tmp" --seed "$seed" "${errors[@]}"
+    mv "$data/$maps.tmp" "$data/$maps"
+    rm -f "$work/stamp.sfm"  # the scene links the ID map folders there are
+  fi
+done
 
 # ---------------------------------------------------- 2.-3. poses, stage one
 scene="$work/sfm/scene"
@@ -138,21 +165,7 @@ fi
 
 # ------------------------------------------------ 4. conditions and variants
 for condition in $conditions; do
-  case "$condition" in
-    exact) maps=object_mask errors=() ;;
-    sam2like) maps=object_mask_sam2like errors=(${MASK_ERRORS:-}) ;;
-    # Fixed before it was measured: the per-view errors at their defaults,
-    # each lasting three views, every object's mask systematically tight or
-    # loose by up to a tenth of its radius, a quarter of the objects lost
-    # while small, and the track errors (docs/synthetic.md).
-    video) maps=object_mask_video errors=(--persistence 3 --border-bias 0.1 --lose-small 0.25 --tracks) ;;
-    *) fail "unknown condition $condition (exact, sam2like, video)" ;;
-  esac
-  if [ ! -d "$data/$maps" ]; then
-    step "mask-errors-$condition" "$bin/op2gs-mask-errors" "$data/object_mask" \
-      "$data/$maps.tmp" --seed "$seed" "${errors[@]}"
-    mv "$data/$maps.tmp" "$data/$maps"
-  fi
+  condition_maps "$condition"
   for variant in $variants; do
     label="${variant%%=*}"
     options=()
