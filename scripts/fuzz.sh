@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Builds the fuzz harnesses of the parsers (clang, with AddressSanitizer and
-# UndefinedBehaviorSanitizer; tests/fuzz/) and runs each for SECONDS on a copy
-# of its seed corpus (tests/fuzz/corpus/<parser>/). Prints the executions and
-# the crashes of each; exits 1 if any harness crashed, leaving the inputs
-# that did in OUT (default: a temporary folder, named in the output).
+# UndefinedBehaviorSanitizer; tests/fuzz/) and runs each for SECONDS, one per
+# core at a time, on a copy of its seed corpus (tests/fuzz/corpus/<parser>/).
+# Prints the executions and the crashes of each; exits 1 if any harness
+# crashed or ran nothing, leaving the inputs that crashed in OUT (default: a
+# temporary folder, named in the output).
 # Built at -O1 (as OSS-Fuzz does; assertions on): it compiles in half the
 # time of -O3, which lets CI (scripts/test.sh) fuzz every parser briefly.
 # Usage: scripts/fuzz.sh [SECONDS] [BUILD_DIR] [OUT]
@@ -29,15 +30,26 @@ if [ "$built" -ne "$expected" ]; then
   echo "fuzz: $built harnesses built, tests/fuzz/CMakeLists.txt declares $expected" >&2
   idle=1
 fi
-printf '%-22s %12s %8s\n' harness executions crashes
-for harness in "$build"/tests/fuzz/fuzz_*; do
-  [ -x "$harness" ] || continue
+# The harnesses run side by side, one per core, each for SECONDS.
+fuzz_one() {
+  local harness="$1" name corpus
   name=$(basename "$harness")
   corpus="$out/corpus/${name#fuzz_}"
   mkdir -p "$corpus" "$out/crashes/$name"
   cp "$root/tests/fuzz/corpus/${name#fuzz_}"/* "$corpus/" 2> /dev/null || true
   "$harness" -max_total_time="$seconds" -timeout=60 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$out/crashes/$name/" "$corpus" > "$out/$name.log" 2>&1 || true
+}
+for harness in "$build"/tests/fuzz/fuzz_*; do
+  [ -x "$harness" ] || continue
+  while [ "$(jobs -rp | wc -l)" -ge "$(nproc)" ]; do wait -n || true; done
+  fuzz_one "$harness" &
+done
+wait
+printf '%-22s %12s %8s\n' harness executions crashes
+for harness in "$build"/tests/fuzz/fuzz_*; do
+  [ -x "$harness" ] || continue
+  name=$(basename "$harness")
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$out/$name.log" | grep -o '[0-9]*$' || echo 0)
   # libFuzzer also saves its slowest input (slow-unit-*): a note, not a finding.
   found=$(find "$out/crashes/$name" -type f ! -name 'slow-unit-*' | wc -l)
