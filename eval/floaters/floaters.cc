@@ -254,7 +254,10 @@ FloaterReport measure_floaters(const splat::GaussianModel& model, const synth::W
   r.distance = o.distance;
   r.gaussians = model.size();
   std::map<int32_t, ObjectContamination> objects;
-  for (const synth::SceneObject& obj : world.objects) objects[obj.id].id = obj.id;
+  for (const synth::SceneObject& obj : world.objects) {
+    objects[obj.id].id = obj.id;
+    objects[obj.id].name = obj.name;
+  }
   std::vector<int32_t> floater_group(model.size()), region_floater_group(model.size()),
       floater_in_mask(model.size()), wrong_in_mask(model.size());
   for (size_t j = 0; j < model.size(); ++j) {

@@ -26,6 +26,7 @@
 #include <map>
 #include <vector>
 
+#include "eval/metrics/floater_report.h"
 #include "splat/camera.h"
 #include "splat/gaussians.h"
 #include "synth/world.h"
@@ -47,39 +48,13 @@ struct SurfaceMatch {
 SurfaceMatch match_surfaces(const splat::GaussianModel& model, const synth::World& world,
                             const FloaterOptions& options);
 
-struct ObjectContamination {
-  int32_t id = 0;
-  size_t gaussians = 0;         // Gaussians whose true object this is
-  size_t wrong = 0;             // of those, labelled otherwise
-  size_t labelled = 0;          // Gaussians labelled with this ID
-  size_t labelled_wrongly = 0;  // of those, floaters or another true object's
-  size_t labelled_floaters = 0;
-  size_t labelled_border = 0;  // wrongly labelled ones on a border with this object
-  double mean_sigma_wrong = 0, mean_sigma_star_wrong = 0;  // over labelled_wrongly
-  double mean_sigma_right = 0, mean_sigma_star_right = 0;  // over the correct ones
-};
-
-struct FloaterReport {
-  double distance = 0;
-  size_t gaussians = 0;
-  size_t floaters = 0;
-  size_t floaters_labelled = 0;                      // floaters with an object label
-  size_t region_gaussians = 0, region_floaters = 0;  // in the object region
-  // Pooled over the views given.
-  double floater_opacity_share = 0;         // of the picture's rendered opacity
-  double region_floater_opacity_share = 0;  // of it, floaters in the object region
-  double mask_floater_share_sigma = 0;      // of the masks' occupancy, with sigma
-  double mask_floater_share_sigma_star = 0;
-  double mask_wrong_share_sigma = 0;  // wrongly labelled (floaters included)
-  double mask_wrong_share_sigma_star = 0;
-  // Per view, in the order given: the share of its rendered opacity that
-  // floaters carry, all of them and those in the object region.
-  std::vector<double> view_floater_opacity_share, view_region_floater_opacity_share;
-  std::vector<ObjectContamination> objects;
-};
+// The report's types are the file's (eval/metrics/floater_report.h).
+using eval::FloaterReport;
+using eval::ObjectContamination;
 
 // model: a labelled model; with instance opacities (stage two), sigma*
-// figures are filled, otherwise they equal sigma's.
+// figures are filled, otherwise they equal sigma's. The objects are named as
+// in the world; the views are not named.
 FloaterReport measure_floaters(const splat::GaussianModel& model, const synth::World& world,
                                const std::vector<splat::Camera>& views,
                                const FloaterOptions& options);

@@ -1,13 +1,7 @@
 #pragma once
 // op2gs-floaters: floaters and label contamination of a trained model of a
-// synthetic scene (floaters.h), written as JSON:
-//
-//   {"distance", "gaussians", "floaters", "floater_share", "floaters_labelled",
-//    "floater_opacity_share", "mask_floater_share": {"sigma", "sigma_star"},
-//    "mask_wrong_share": {"sigma", "sigma_star"}, "views",
-//    "objects": [{"id", "name", "gaussians", "wrong", "labelled",
-//                 "labelled_wrongly", "labelled_floaters", "labelled_border",
-//                 "sigma": {"right", "wrong"}, "sigma_star": {"right", "wrong"}}]}
+// synthetic scene (floaters.h), written as floaters.json
+// (eval/metrics/floater_report.h).
 
 #include <filesystem>
 

@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "eval/metrics/floater_report.h"
 #include "splat/atomic_file.h"
 
 namespace eval {
@@ -175,51 +176,44 @@ std::optional<Table> similarity_table(const SceneData& s) {
 
 std::vector<Table> floater_tables(const SceneReportInput& in) {
   if (in.floaters.empty() || !fs::exists(in.floaters)) return {};
-  const json f = json::parse(splat::read_text_file(in.floaters));
-  const auto pct = [](const json& v) { return fmt::format("{:.1f}%", 100 * v.get<double>()); };
+  const FloaterReport f = read_floater_report(in.floaters);
+  const auto pct = [](double v) { return fmt::format("{:.1f}%", 100 * v); };
   Table summary{fmt::format("Floaters (farther than {} from every true surface) and wrongly "
                             "labelled Gaussians; shares of the test views' rendered opacity "
                             "and of the object masks' occupancy",
-                            f.at("distance").get<double>()),
+                            f.distance),
                 {"measure", "value"},
                 {}};
-  const size_t n = std::max<size_t>(f.at("gaussians").get<size_t>(), 1);
-  summary.rows = {
-      {"Gaussians", std::to_string(f.at("gaussians").get<size_t>())},
-      {"floaters", fmt::format("{} ({:.1f}%)", f.at("floaters").get<size_t>(),
-                               100.0 * f.at("floaters").get<size_t>() / n)},
-      {"floaters in the object region", std::to_string(f["region"]["floaters"].get<size_t>())},
-      {"floaters with an object label", std::to_string(f.at("floaters_labelled").get<size_t>())},
-      {"picture opacity from floaters", pct(f.at("floater_opacity_share"))},
-      {"... from floaters in the object region", pct(f["region"]["floater_opacity_share"])},
-      {"mask occupancy from floaters, sigma / sigma*",
-       pct(f["mask_floater_share"]["sigma"]) + " / " + pct(f["mask_floater_share"]["sigma_star"])},
-      {"mask occupancy from wrong labels, sigma / sigma*",
-       pct(f["mask_wrong_share"]["sigma"]) + " / " + pct(f["mask_wrong_share"]["sigma_star"])}};
+  summary.rows = {{"Gaussians", std::to_string(f.gaussians)},
+                  {"floaters", fmt::format("{} ({:.1f}%)", f.floaters,
+                                           100.0 * f.floaters / std::max<size_t>(f.gaussians, 1))},
+                  {"floaters in the object region", std::to_string(f.region_floaters)},
+                  {"floaters with an object label", std::to_string(f.floaters_labelled)},
+                  {"picture opacity from floaters", pct(f.floater_opacity_share)},
+                  {"... from floaters in the object region", pct(f.region_floater_opacity_share)},
+                  {"mask occupancy from floaters, sigma / sigma*",
+                   pct(f.mask_floater_share_sigma) + " / " + pct(f.mask_floater_share_sigma_star)},
+                  {"mask occupancy from wrong labels, sigma / sigma*",
+                   pct(f.mask_wrong_share_sigma) + " / " + pct(f.mask_wrong_share_sigma_star)}};
   Table objects{
       "Per object: its Gaussians labelled otherwise, the Gaussians wrongly carrying its "
       "label (floaters, on a border with another object), and their mean opacities",
       {"object", "Gaussians", "labelled otherwise", "wrongly labelled", "floaters", "border",
        "sigma right / wrong", "sigma* right / wrong"},
       {}};
-  for (const json& o : f.at("objects")) {
-    objects.rows.push_back({o.value("name", std::to_string(o.at("id").get<int>())),
-                            std::to_string(o.at("gaussians").get<size_t>()),
-                            std::to_string(o.at("wrong").get<size_t>()),
-                            std::to_string(o.at("labelled_wrongly").get<size_t>()),
-                            std::to_string(o.at("labelled_floaters").get<size_t>()),
-                            std::to_string(o.at("labelled_border").get<size_t>()),
-                            fmt::format("{:.2f} / {:.2f}", o["sigma"]["right"].get<double>(),
-                                        o["sigma"]["wrong"].get<double>()),
-                            fmt::format("{:.2f} / {:.2f}", o["sigma_star"]["right"].get<double>(),
-                                        o["sigma_star"]["wrong"].get<double>())});
-  }
+  for (const ObjectContamination& o : f.objects)
+    objects.rows.push_back(
+        {o.name.empty() ? std::to_string(o.id) : o.name, std::to_string(o.gaussians),
+         std::to_string(o.wrong), std::to_string(o.labelled_wrongly),
+         std::to_string(o.labelled_floaters), std::to_string(o.labelled_border),
+         fmt::format("{:.2f} / {:.2f}", o.mean_sigma_right, o.mean_sigma_wrong),
+         fmt::format("{:.2f} / {:.2f}", o.mean_sigma_star_right, o.mean_sigma_star_wrong)});
   Table views{"Per test view: the share of its rendered opacity that floaters carry",
               {"view", "all floaters", "floaters in the object region"},
               {}};
-  for (const json& v : f.value("per_view", json::array()))
-    views.rows.push_back({v.at("view").get<std::string>(), pct(v.at("floater_opacity_share")),
-                          pct(v.at("region_floater_opacity_share"))});
+  for (size_t v = 0; v < f.view_names.size(); ++v)
+    views.rows.push_back({f.view_names[v], pct(f.view_floater_opacity_share[v]),
+                          pct(f.view_region_floater_opacity_share[v])});
   if (views.rows.empty()) return {summary, objects};
   return {summary, objects, views};
 }
