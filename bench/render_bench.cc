@@ -166,17 +166,18 @@ void BM_CameraGradientRatio(benchmark::State& state) {
   const Case c = case_of(state);
   const GaussianModel m = scene_of(c);
   const Camera cam = bench_camera(c.width, c.height);
-  RenderSettings plain, posed;
+  const RenderSettings s;
+  BackwardSettings plain, posed;
   posed.camera_gradient = true;
   std::unique_ptr<RenderState> rs;
-  const RenderOutput out = CpuRenderer().render(m, cam, plain, &rs);
+  const RenderOutput out = CpuRenderer().render(m, cam, s, &rs);
   RenderOutputGradients g;
   g.color.assign(out.color.size(), 1e-3f);
   GaussianGradients grads;
   double t_plain = 0, t_posed = 0;
-  auto timed = [&](const RenderSettings& s) {
+  auto timed = [&](const BackwardSettings& b) {
     const auto t0 = std::chrono::steady_clock::now();
-    CpuRenderer().backward(m, cam, s, *rs, g, grads);
+    CpuRenderer().backward(m, cam, s, b, *rs, g, grads);
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
   timed(posed);  // sizes the gradient buffers outside the timing
@@ -193,9 +194,13 @@ void BM_CameraGradientRatio(benchmark::State& state) {
 // gradients.
 RenderSettings trainer_settings() {
   RenderSettings s;
-  s.depth = false;                  // colour alone
-  s.zero_culled_gradients = false;  // culled Gaussians' gradients left unwritten
+  s.depth = false;  // colour alone
   return s;
+}
+BackwardSettings trainer_backward_settings() {
+  BackwardSettings b;
+  b.zero_culled_gradients = false;  // culled Gaussians' gradients left unwritten
+  return b;
 }
 
 // A case's scene and camera, projected once with the trainer's settings.
@@ -207,6 +212,7 @@ struct ProjectedScene {
   GaussianModel model;
   Camera camera;
   RenderSettings settings = trainer_settings();
+  BackwardSettings backward = trainer_backward_settings();
   ProjectedGaussians projected;
 };
 
@@ -231,8 +237,8 @@ void BM_ProjectBackward(benchmark::State& state) {
     for (float& x : *v) x = normal(rng);
   GaussianGradients grads;
   for (auto _ : state)
-    project_gaussians_backward(scene.model, scene.camera, scene.settings, scene.projected, pg,
-                               grads);
+    project_gaussians_backward(scene.model, scene.camera, scene.settings, scene.backward,
+                               scene.projected, pg, grads);
 }
 
 // {Gaussians, resolution (1: 640x480, 2: 1280x960), scene (0: volume, 1: surface)}

@@ -98,7 +98,8 @@ Camera fit_camera_to_photo(const Renderer& renderer, const GaussianModel& model,
   settings.all_instance_labels = settings.instance_label_map = settings.baseline_label_map = false;
   settings.color = true;
   settings.depth = false;
-  settings.camera_gradient = true;
+  BackwardSettings with_camera_gradient;
+  with_camera_gradient.camera_gradient = true;
   ViewPoseCorrections correction(1);
   std::unique_ptr<RenderState> state;
   RenderOutput out;
@@ -113,7 +114,8 @@ Camera fit_camera_to_photo(const Renderer& renderer, const GaussianModel& model,
       const float d = out.color[i] - photo.data[i];
       grads.color[i] = float((d > 0) - (d < 0)) / float(pixels);
     }
-    renderer.backward(model, current, settings, *state, grads, gaussian_grads);
+    renderer.backward(model, current, settings, with_camera_gradient, *state, grads,
+                      gaussian_grads);
     // Log-linear decay to a tenth, so that the last steps settle.
     const double decay = std::pow(0.1, double(it) / std::max(1, options.iterations - 1));
     correction.step(

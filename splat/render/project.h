@@ -54,7 +54,9 @@ struct ProjectedGradients {
 // Chains the projected gradients back to the model parameters. Writes every
 // field of `grads` (resized to the model).
 void project_gaussians_backward(const GaussianModel& model, const Camera& camera,
-                                const RenderSettings& settings, const ProjectedGaussians& proj,
-                                const ProjectedGradients& pgrads, GaussianGradients& grads);
+                                const RenderSettings& settings,
+                                const BackwardSettings& backward_settings,
+                                const ProjectedGaussians& proj, const ProjectedGradients& pgrads,
+                                GaussianGradients& grads);
 
 }  // namespace splat

@@ -312,13 +312,14 @@ void backward_color_batch(const GaussianModel& m, const ProjectionView& v, const
 // Zeroes the gradients of a batch's culled Gaussians and writes its visible
 // ones': the geometry a batch at a time, the colour and opacities one by one.
 void backward_batch(const GaussianModel& m, const ProjectionView& v, const RenderSettings& s,
-                    const ProjectedGaussians& p, const ProjectedGradients& pg, size_t first,
-                    size_t count, float half_w, float half_h, GaussianGradients& g) {
+                    bool zero_culled_gradients, const ProjectedGaussians& p,
+                    const ProjectedGradients& pg, size_t first, size_t count, float half_w,
+                    float half_h, GaussianGradients& g) {
   bool any_visible = false;
   for (size_t i = first; i < first + count; ++i) {
     if (p.visible(i)) {  // every field written below
       any_visible = true;
-    } else if (s.zero_culled_gradients) {
+    } else if (zero_culled_gradients) {
       zero_gradients(g, i);
     } else {
       g.visible[i] = 0;
@@ -373,6 +374,7 @@ void backward_batch(const GaussianModel& m, const ProjectionView& v, const Rende
 }  // namespace
 
 void project_gaussians_backward(const GaussianModel& m, const Camera& cam, const RenderSettings& s,
+                                const BackwardSettings& backward_settings,
                                 const ProjectedGaussians& p, const ProjectedGradients& pg,
                                 GaussianGradients& g) {
   const size_t n = m.size();
@@ -380,12 +382,12 @@ void project_gaussians_backward(const GaussianModel& m, const Camera& cam, const
   const ProjectionView v(cam);
   const float half_w = 0.5f * cam.width, half_h = 0.5f * cam.height;
   g.camera.fill(0.0);
-  if (!s.camera_gradient) {
+  if (!backward_settings.camera_gradient) {
     const size_t batches = (n + kBatch - 1) / kBatch;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, batches, 256), [&](const auto& range) {
       for (size_t b = range.begin(); b < range.end(); ++b)
-        backward_batch(m, v, s, p, pg, b * kBatch, std::min<size_t>(kBatch, n - b * kBatch), half_w,
-                       half_h, g);
+        backward_batch(m, v, s, backward_settings.zero_culled_gradients, p, pg, b * kBatch,
+                       std::min<size_t>(kBatch, n - b * kBatch), half_w, half_h, g);
     });
     return;
   }

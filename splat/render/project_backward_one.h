@@ -3,7 +3,7 @@
 // scalar algebra (Eigen's 3x3 matrices), as gsplat keeps its reference
 // apart from its kernels. It is the reference that the batched pass
 // (project_backward.cc) is tested against, and the pass that also sums the
-// gradient of the camera's pose (RenderSettings::camera_gradient, for pose
+// gradient of the camera's pose (BackwardSettings::camera_gradient, for pose
 // refinement), which the batches do not. Internal to splat/render/.
 
 #include "splat/camera.h"

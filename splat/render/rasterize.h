@@ -89,7 +89,8 @@ struct RasterState {
 void rasterize_forward(const RenderSettings& settings, RasterState& state, RenderOutput& out);
 
 // Accumulates dLoss/d(projected quantities) from the output gradients.
-void rasterize_backward(const RenderSettings& settings, RasterState& state,
-                        const RenderOutputGradients& grads, ProjectedGradients& out);
+void rasterize_backward(const RenderSettings& settings, const BackwardSettings& backward_settings,
+                        RasterState& state, const RenderOutputGradients& grads,
+                        ProjectedGradients& out);
 
 }  // namespace splat

@@ -448,9 +448,9 @@ size_t number_band_entries(RasterState& st, TileRowBand band, std::span<const ui
 }
 
 // Gradients of every entry of the band's tiles, into st.entry_grads.
-void backward_band(const RenderSettings& settings, RasterState& st,
-                   const RenderOutputGradients& grads, TileFunction tile_fn, bool color,
-                   size_t planes, TileRowBand band) {
+void backward_band(const RenderSettings& settings, const BackwardSettings& backward_settings,
+                   RasterState& st, const RenderOutputGradients& grads, TileFunction tile_fn,
+                   bool color, size_t planes, TileRowBand band) {
   const size_t tile_begin = size_t(band.row_begin) * st.bins.tiles_x,
                tile_end = size_t(band.row_end) * st.bins.tiles_x;
   // Scratch per thread, not per task: a task's buffers grew tile by tile
@@ -466,7 +466,7 @@ void backward_band(const RenderSettings& settings, RasterState& st,
     if (!s) {
       s = std::make_unique<TileBackState>();
       s->g_planes.assign(planes * kBlocks * kLanes, 0.f);
-      s->first_geometry_plane = settings.maps_without_geometry_gradient;
+      s->first_geometry_plane = backward_settings.maps_without_geometry_gradient;
     }
     for (size_t t = range.begin(); t < range.end(); ++t) {
       const uint32_t lo = st.bins.tile_start[t], hi = st.bins.tile_start[t + 1];
@@ -542,8 +542,9 @@ void sum_band_entries(const RasterState& st, TileRowBand band, std::span<const u
 
 }  // namespace
 
-void rasterize_backward(const RenderSettings& settings, RasterState& st,
-                        const RenderOutputGradients& grads, ProjectedGradients& out) {
+void rasterize_backward(const RenderSettings& settings, const BackwardSettings& backward_settings,
+                        RasterState& st, const RenderOutputGradients& grads,
+                        ProjectedGradients& out) {
   const size_t pixels = size_t(st.width) * st.height;
   const size_t planes = pixels ? grads.instance_maps.size() / pixels : 0;
   const bool color = settings.color && !grads.color.empty();
@@ -568,7 +569,7 @@ void rasterize_backward(const RenderSettings& settings, RasterState& st,
     // and the buffer only grows (growing a vector zero-fills the new part,
     // which band after band of different sizes did every iteration).
     if (st.entry_grads.size() < entries * kEntryGrads) st.entry_grads.resize(entries * kEntryGrads);
-    backward_band(settings, st, grads, tile_fn, color, planes, bands[b]);
+    backward_band(settings, backward_settings, st, grads, tile_fn, color, planes, bands[b]);
     sum_band_entries(st, bands[b], members, out);
   }
 }

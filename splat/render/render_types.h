@@ -44,21 +44,25 @@ struct RenderSettings {
   // (train/object_loss.h, split_labels). Must outlive the render and its
   // backward pass.
   std::span<const int32_t> labels;
-  // Backward: the gradient of the first this many occupancy maps reaches
-  // sigma* only, not the geometry (stage two's vote protection: the object
-  // loss does not move or reshape the Gaussians the votes are sure of).
-  int maps_without_geometry_gradient = 0;
   // Label of the Gaussian with the largest alpha*_i along the ray (up to
   // termination; only alpha*_i >= 1/255 counts, else 0).
   bool instance_label_map = false;
   // Ablation baseline: label of the Gaussian with the largest alpha_i T_i.
   bool baseline_label_map = false;
-  // Backward: also the gradient w.r.t. the camera pose
-  // (GaussianGradients::camera), for pose refinement.
+};
+
+// What only the backward pass reads.
+struct BackwardSettings {
+  // The gradient of the first this many occupancy maps reaches sigma* only,
+  // not the geometry (stage two's vote protection: the object loss does not
+  // move or reshape the Gaussians the votes are sure of).
+  int maps_without_geometry_gradient = 0;
+  // Also the gradient w.r.t. the camera pose (GaussianGradients::camera), for
+  // pose refinement.
   bool camera_gradient = false;
-  // Backward: false leaves the parameter gradients of the Gaussians out of
-  // view (GaussianGradients::visible == 0) unwritten instead of zeroing them,
-  // for a caller that reads `visible` first, such as the trainer's Adam step
+  // false leaves the parameter gradients of the Gaussians out of view
+  // (GaussianGradients::visible == 0) unwritten instead of zeroing them, for
+  // a caller that reads `visible` first, such as the trainer's Adam step
   // (GaussianAdam::step): about half the Gaussians of a training view, whose
   // 60 zeros would only be written to be read back.
   bool zero_culled_gradients = true;
@@ -103,13 +107,13 @@ struct GaussianGradients {
   // times half the image size on that axis): the densification statistic.
   std::vector<float> mean2d_ndc;  // 2N
   std::vector<uint8_t> visible;   // N: 1 if the Gaussian was rasterized
-  // With RenderSettings::camera_gradient: dLoss/d(rho, omega) of a pose
+  // With BackwardSettings::camera_gradient: dLoss/d(rho, omega) of a pose
   // perturbation applied in the camera frame, x_cam' = exp([omega]x) x_cam +
   // rho, at rho = omega = 0 (the translation rho first). Zero otherwise.
   std::array<double, 6> camera{};
 
   // Sizes every array for n Gaussians (values are left to the backward pass,
-  // which writes all of them, or with RenderSettings::zero_culled_gradients
+  // which writes all of them, or with BackwardSettings::zero_culled_gradients
   // false those of the visible Gaussians and `visible`).
   void resize(size_t n);
 };

@@ -52,8 +52,6 @@ void check_settings(const RenderSettings& s, const Camera& camera) {
   if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
     throw std::invalid_argument("instance_labels lists a label twice");
   if (!sorted.empty() && sorted.front() < 0) throw std::invalid_argument("labels must be >= 0");
-  if (s.maps_without_geometry_gradient < 0)
-    throw std::invalid_argument("maps without geometry gradient must be >= 0");
 }
 
 void check_labels(const RenderSettings& s, const GaussianModel& m) {
@@ -117,8 +115,11 @@ void CpuRenderer::render(const GaussianModel& model, const Camera& camera,
 }
 
 void CpuRenderer::backward(const GaussianModel& model, const Camera& camera,
-                           const RenderSettings& settings, RenderState& state,
+                           const RenderSettings& settings,
+                           const BackwardSettings& backward_settings, RenderState& state,
                            const RenderOutputGradients& grads, GaussianGradients& out) const {
+  if (backward_settings.maps_without_geometry_gradient < 0)
+    throw std::invalid_argument("maps without geometry gradient must be >= 0");
   auto* cpu_state = dynamic_cast<CpuRenderState*>(&state);
   if (!cpu_state) throw std::invalid_argument("CpuRenderer::backward needs a CPU render state");
   RasterState& st = cpu_state->raster;
@@ -131,9 +132,9 @@ void CpuRenderer::backward(const GaussianModel& model, const Camera& camera,
                                                             st.map_of_label.end(),
                                                             [](int32_t p) { return p >= 0; })))
     throw std::invalid_argument("output gradients do not match the render's sizes");
-  rasterize_backward(settings, st, grads, cpu_state->projected_grads);
-  project_gaussians_backward(model, camera, settings, st.projected, cpu_state->projected_grads,
-                             out);
+  rasterize_backward(settings, backward_settings, st, grads, cpu_state->projected_grads);
+  project_gaussians_backward(model, camera, settings, backward_settings, st.projected,
+                             cpu_state->projected_grads, out);
 }
 
 }  // namespace splat

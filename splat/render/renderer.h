@@ -8,6 +8,9 @@
 //   RenderOutput out = renderer.render(model, camera, settings, &state);
 //   ... loss and its gradients w.r.t. out ...
 //   GaussianGradients g = renderer.backward(model, camera, settings, *state, grads);
+//
+// What only the backward pass reads (pose gradients, vote protection, culled
+// Gaussians left unwritten) is in BackwardSettings, not RenderSettings.
 
 #include <memory>
 
@@ -39,11 +42,13 @@ class Renderer {
                       std::unique_ptr<RenderState>* state = nullptr) const = 0;
 
   // Gradients of the loss w.r.t. every Gaussian parameter, given the
-  // gradients w.r.t. the outputs of the render that produced state. out's
-  // buffers are reused.
+  // gradients w.r.t. the outputs of the render (with `settings`) that
+  // produced state. out's buffers are reused.
+  // Throws std::invalid_argument for bad backward settings.
   virtual void backward(const GaussianModel& model, const Camera& camera,
-                        const RenderSettings& settings, RenderState& state,
-                        const RenderOutputGradients& grads, GaussianGradients& out) const = 0;
+                        const RenderSettings& settings, const BackwardSettings& backward_settings,
+                        RenderState& state, const RenderOutputGradients& grads,
+                        GaussianGradients& out) const = 0;
 
   // Conveniences that return fresh outputs.
   RenderOutput render(const GaussianModel& model, const Camera& camera,
@@ -54,11 +59,23 @@ class Renderer {
     return out;
   }
   GaussianGradients backward(const GaussianModel& model, const Camera& camera,
-                             const RenderSettings& settings, RenderState& state,
+                             const RenderSettings& settings,
+                             const BackwardSettings& backward_settings, RenderState& state,
                              const RenderOutputGradients& grads) const {
     GaussianGradients out;
-    backward(model, camera, settings, state, grads, out);
+    backward(model, camera, settings, backward_settings, state, grads, out);
     return out;
+  }
+  // With the default backward settings.
+  void backward(const GaussianModel& model, const Camera& camera, const RenderSettings& settings,
+                RenderState& state, const RenderOutputGradients& grads,
+                GaussianGradients& out) const {
+    backward(model, camera, settings, BackwardSettings{}, state, grads, out);
+  }
+  GaussianGradients backward(const GaussianModel& model, const Camera& camera,
+                             const RenderSettings& settings, RenderState& state,
+                             const RenderOutputGradients& grads) const {
+    return backward(model, camera, settings, BackwardSettings{}, state, grads);
   }
 };
 
@@ -69,8 +86,8 @@ class CpuRenderer : public Renderer {
   void render(const GaussianModel& model, const Camera& camera, const RenderSettings& settings,
               RenderOutput& out, std::unique_ptr<RenderState>* state = nullptr) const override;
   void backward(const GaussianModel& model, const Camera& camera, const RenderSettings& settings,
-                RenderState& state, const RenderOutputGradients& grads,
-                GaussianGradients& out) const override;
+                const BackwardSettings& backward_settings, RenderState& state,
+                const RenderOutputGradients& grads, GaussianGradients& out) const override;
 };
 
 }  // namespace splat

@@ -35,7 +35,7 @@ class GaussianAdam {
   // their gradients and moments are zero, so Adam would not move them anyway.
   // With read_culled_gradients false, the Gaussians with grads.visible == 0
   // step with a zero gradient without it being read (the renderer's
-  // RenderSettings::zero_culled_gradients false leaves it unwritten): the
+  // BackwardSettings::zero_culled_gradients false leaves it unwritten): the
   // same step to the bit as with the zeros read.
   void step(GaussianModel& model, const GaussianGradients& grads,
             const std::array<float, kParamGroups>& learning_rates,

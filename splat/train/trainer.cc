@@ -174,9 +174,6 @@ RenderSettings Trainer::render_settings() const {
   std::copy_n(options_.background, 3, s.background);
   s.sh_degree = sh_degree_;
   s.depth = false;  // no loss term reads it
-  // Adam reads grads_.visible and steps the culled Gaussians with zero
-  // gradients without reading them.
-  s.zero_culled_gradients = false;
   return s;
 }
 
@@ -208,7 +205,10 @@ Trainer::Step Trainer::start_step(IterationStats& st) {
   step.camera = camera_of(step.view);
   scene_->image_into(step.view, target_);
   step.settings = render_settings();
-  step.settings.camera_gradient = refines_poses() && it >= o.poses.from_iteration;
+  // Adam reads grads_.visible and steps the culled Gaussians with zero
+  // gradients without reading them.
+  step.backward.zero_culled_gradients = false;
+  step.backward.camera_gradient = refines_poses() && it >= o.poses.from_iteration;
   step.objects = learns_instances() ? &object_map(step.view) : nullptr;
   if (step.objects) {
     st.objects = sample_objects(step.objects->objects, o.object_loss.objects_per_step, rng_);
@@ -219,7 +219,7 @@ Trainer::Step Trainer::start_step(IterationStats& st) {
       read_protection();
       step.settings.labels = split_labels_;
       for (int32_t id : st.objects) step.settings.instance_labels.push_back(id + split_offset_);
-      step.settings.maps_without_geometry_gradient = int(st.objects.size());
+      step.backward.maps_without_geometry_gradient = int(st.objects.size());
     }
   }
   return step;
@@ -266,8 +266,9 @@ void Trainer::backward(const Step& step, const IterationStats& st) {
     exposure_.backward_and_step(step.view, render_out_.color, out_grads_.color, lr,
                                 o.exposure.regularization);
   }
-  renderer_.backward(model_, step.camera, step.settings, *render_state_, out_grads_, grads_);
-  if (step.settings.camera_gradient && it < o.total_iterations)
+  renderer_.backward(model_, step.camera, step.settings, step.backward, *render_state_, out_grads_,
+                     grads_);
+  if (step.backward.camera_gradient && it < o.total_iterations)
     poses_.step(step.view, grads_.camera, pose_learning_rate(it));
 }
 

@@ -185,6 +185,7 @@ class Trainer {
     size_t view = 0;
     Camera camera;
     RenderSettings settings;
+    BackwardSettings backward;
     const ObjectMap* objects = nullptr;  // the view's objects when stage two learns sigma*
   };
   Step start_step(IterationStats& st);

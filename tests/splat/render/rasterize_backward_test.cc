@@ -53,13 +53,13 @@ TEST(RasterizeBackward, BandsOfTileRowsGiveTheSameGradientsToTheBit) {
 
   RasterState one_band = forward_state(m, cam, s);
   ProjectedGradients whole;
-  rasterize_backward(s, one_band, g, whole);
+  rasterize_backward(s, BackwardSettings{}, one_band, g, whole);
   ASSERT_EQ(one_band.entry_grads.size(), one_band.bins.num_entries() * kRasterEntryGradients);
 
   RasterState row_bands = forward_state(m, cam, s);
   row_bands.max_band_entries = 1;  // one tile row per band
   ProjectedGradients banded;
-  rasterize_backward(s, row_bands, g, banded);
+  rasterize_backward(s, BackwardSettings{}, row_bands, g, banded);
   // The buffer held one row's entries at most.
   EXPECT_LT(row_bands.entry_grads.capacity(), one_band.entry_grads.size());
 
@@ -81,13 +81,13 @@ TEST(RasterizeBackward, VisibleGradientsDoNotDependOnWhatTheBufferHeld) {
   RasterState st = forward_state(m, cam, s);
   st.max_band_entries = 1;  // Gaussians split across bands, too
   ProjectedGradients fresh;
-  rasterize_backward(s, st, g, fresh);
+  rasterize_backward(s, BackwardSettings{}, st, g, fresh);
   ProjectedGradients reused;
   reused.resize(m.size());
   for (auto* v : {&reused.mean2d, &reused.conic, &reused.depth, &reused.color, &reused.opacity,
                   &reused.instance_opacity})
     v->assign(v->size(), std::nanf(""));
-  rasterize_backward(s, st, g, reused);
+  rasterize_backward(s, BackwardSettings{}, st, g, reused);
   size_t culled = 0;
   for (size_t i = 0; i < m.size(); ++i) {
     if (!st.projected.visible(i)) {

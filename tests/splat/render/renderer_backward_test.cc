@@ -175,13 +175,14 @@ INSTANTIATE_TEST_SUITE_P(Seeds, GradientsMatchFiniteDifferences, ::testing::Valu
 
 // The gradients of a random weighting of the occupancy maps s asks for.
 GaussianGradients occupancy_gradients(const GaussianModel& m, const Camera& cam,
-                                      const RenderSettings& s, unsigned seed) {
+                                      const RenderSettings& s, unsigned seed,
+                                      const BackwardSettings& b = {}) {
   RenderOutputGradients g;
   g.instance_maps = random_weights(s.instance_labels.size() * cam.width * cam.height, seed);
   const CpuRenderer renderer;
   std::unique_ptr<RenderState> state;
   renderer.render(m, cam, s, &state);
-  return renderer.backward(m, cam, s, *state, g);
+  return renderer.backward(m, cam, s, b, *state, g);
 }
 
 TEST(RendererBackward, ObjectLossNeverReachesOpacityOrColour) {
@@ -217,8 +218,9 @@ TEST(RendererBackward, MapsWithoutGeometryGradientReachSigmaStarOnly) {
   s.color = false;
   s.instance_labels = {1, 2, 4};
   const GaussianGradients all = occupancy_gradients(m, cam, s, 6);
-  s.maps_without_geometry_gradient = 1;  // label 1's map
-  const GaussianGradients cut = occupancy_gradients(m, cam, s, 6);
+  BackwardSettings b;
+  b.maps_without_geometry_gradient = 1;  // label 1's map
+  const GaussianGradients cut = occupancy_gradients(m, cam, s, 6, b);
   double label_1_star = 0;
   for (size_t i = 0; i < m.size(); ++i) {
     EXPECT_EQ(cut.instance_opacity_logits[i], all.instance_opacity_logits[i]);
@@ -332,12 +334,13 @@ TEST(RendererBackward, CameraGradientMatchesFiniteDifferences) {
   const GaussianModel m = smooth_scene(25);
   const Camera cam = test_camera(40, 30);
   RenderSettings s;
-  s.camera_gradient = true;
+  BackwardSettings b;
+  b.camera_gradient = true;
   const RenderOutputGradients g = colour_alpha_depth_weights(cam, 8);
   const CpuRenderer renderer;
   std::unique_ptr<RenderState> state;
   renderer.render(m, cam, s, &state);
-  const GaussianGradients grads = renderer.backward(m, cam, s, *state, g);
+  const GaussianGradients grads = renderer.backward(m, cam, s, b, *state, g);
   const reference::Params base = reference::Params::from(m);
   auto loss = [&](const Camera& c) { return weighted_sum(g, reference::render(base, c, s)); };
   for (int k = 0; k < 6; ++k) {
@@ -378,14 +381,14 @@ TEST_P(BatchedMatchesOneAtATime, EveryGradient) {
   const Camera cam = test_camera(32, 24);
   RenderOutputGradients g = colour_alpha_depth_weights(cam, 31);
   const CpuRenderer renderer;
-  RenderSettings batched;
-  batched.sh_degree = GetParam();
-  RenderSettings one_at_a_time = batched;
+  RenderSettings s;
+  s.sh_degree = GetParam();
+  BackwardSettings one_at_a_time;
   one_at_a_time.camera_gradient = true;
   std::unique_ptr<RenderState> state;
-  renderer.render(m, cam, batched, &state);
-  const GaussianGradients a = renderer.backward(m, cam, batched, *state, g);
-  const GaussianGradients b = renderer.backward(m, cam, one_at_a_time, *state, g);
+  renderer.render(m, cam, s, &state);
+  const GaussianGradients a = renderer.backward(m, cam, s, *state, g);
+  const GaussianGradients b = renderer.backward(m, cam, s, one_at_a_time, *state, g);
   EXPECT_EQ(a.visible, b.visible);
   size_t visible = 0, culled = 0;
   for (uint8_t v : a.visible) (v ? visible : culled)++;
@@ -421,12 +424,13 @@ TEST(RendererBackward, CulledGradientsLeftUnwrittenWhenAsked) {
   std::unique_ptr<RenderState> state;
   renderer.render(m, cam, s, &state);
   const GaussianGradients zeroed = renderer.backward(m, cam, s, *state, g);
-  s.zero_culled_gradients = false;
+  BackwardSettings unwritten;
+  unwritten.zero_culled_gradients = false;
   GaussianGradients out;
   out.resize(m.size());
   for (auto* a : gradient_arrays(out))
     const_cast<std::vector<float>*>(a)->assign(a->size(), std::nanf(""));
-  renderer.backward(m, cam, s, *state, g, out);
+  renderer.backward(m, cam, s, unwritten, *state, g, out);
   EXPECT_EQ(out.visible, zeroed.visible);
   size_t culled = 0;
   const auto written = gradient_arrays(out), expected = gradient_arrays(zeroed);

@@ -262,9 +262,15 @@ struct FloaterScene {
       split = split_labels(m.labels, *keep, 3);  // s.labels views it: it must outlive s
       s.labels = split;
       s.instance_labels = {1, 2, 4, 5};
-      s.maps_without_geometry_gradient = 2;
     }
     return s;
+  }
+  // With vote protection, the protected Gaussians' maps (the first two)
+  // reach sigma* only.
+  static BackwardSettings object_backward_settings(const std::vector<uint8_t>* keep) {
+    BackwardSettings b;
+    if (keep) b.maps_without_geometry_gradient = 2;
+    return b;
   }
   // The gradients of the object loss alone against `mask`, from the model as it is.
   GaussianGradients object_loss_gradients(const IdMap& mask,
@@ -275,7 +281,7 @@ struct FloaterScene {
     const RenderOutput r = renderer.render(m, cam, s, &state);
     RenderOutputGradients out_grads;
     object_loss_into(r, mask, keep, out_grads);
-    return renderer.backward(m, cam, s, *state, out_grads);
+    return renderer.backward(m, cam, s, object_backward_settings(keep), *state, out_grads);
   }
   // The object loss's dLoss/dS of a render with object_settings(keep).
   static void object_loss_into(const RenderOutput& r, const IdMap& mask,
@@ -295,7 +301,8 @@ struct FloaterScene {
       const RenderOutput r = renderer.render(m, cam, s, &state);
       image_loss(r.color, target, {}, &out_grads.color);
       object_loss_into(r, mask, keep, out_grads);
-      const GaussianGradients g = renderer.backward(m, cam, s, *state, out_grads);
+      const GaussianGradients g =
+          renderer.backward(m, cam, s, object_backward_settings(keep), *state, out_grads);
       // The object loss alone gives sigma no gradient; the colour loss is at its minimum.
       adam.step(m, g, {1e-4f, 2.5e-3f, 1.25e-4f, 0.05f, 5e-3f, 1e-3f, 0.05f}, {}, 0);
       if (keep) keep_in_mask(m.instance_opacity_logits, m.opacity_logits, *keep);
