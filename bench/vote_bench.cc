@@ -14,9 +14,9 @@
 #include <random>
 
 #include "bench/bench_scenes.h"
-#include "splat/atomic_file.h"
 #include "splat/colmap_model.h"
 #include "splat/id_maps.h"
+#include "splat/image.h"
 #include "splat/label/vote_run.h"
 #include "splat/ply.h"
 
@@ -54,10 +54,15 @@ IdMap id_map_of(int view) {
 fs::path make_scene(size_t gaussians, int views) {
   const fs::path dir =
       fs::temp_directory_path() / ("op2gs_vote_bench_" + std::to_string(::getpid()));
+  fs::remove_all(dir);  // a folder left by an aborted run under a reused process ID
   ColmapModel model;
   model.cameras[1] = {
       1, 1, kWidth, kHeight, {0.8 * kWidth, 0.8 * kWidth, kWidth / 2.0, kHeight / 2.0}};
   const std::vector<Camera> cams = jittered_cameras(views);
+  // Voting reads each photo's header (its size), not its pixels: one blank
+  // photo, copied per view.
+  const fs::path blank = dir / "blank.png";
+  write_image_rgb(blank, ImageRGB(kWidth, kHeight));
   for (int i = 0; i < views; ++i) {
     ColmapImage image;
     image.image_id = uint32_t(i + 1);
@@ -66,8 +71,8 @@ fs::path make_scene(size_t gaussians, int views) {
     image.tvec = cams[i].t;
     image.name = "view_" + std::to_string(1000 + i) + ".png";
     model.images[image.image_id] = image;
-    // The images are not decoded by voting without previews: placeholders.
-    write_text_atomically(dir / "images" / image.name, "");
+    fs::create_directories(dir / "images");
+    fs::copy_file(blank, dir / "images" / image.name, fs::copy_options::overwrite_existing);
     write_id_map(dir / "sam2" / image.name, id_map_of(i), 16);
   }
   write_colmap_model(model, dir / "sparse" / "0", ColmapFormat::kBinary);
