@@ -1,3 +1,7 @@
+// COLMAP's sparse model (cameras, images, points3D) in both of its formats,
+// binary and text, read with every check a user's model needs and written
+// back. Kept in one file, as COLMAP keeps its model I/O, so that the readers
+// and the writers of the two formats cannot drift apart.
 #include "splat/colmap_model.h"
 
 #include <fmt/format.h>

@@ -1,3 +1,9 @@
+// The rasterizer's backward pass: one tile's pixels walked back to front,
+// each Gaussian's gradient summed over its pixels as moments, with a portable
+// and an AVX-512 form of the same loop. One step kept in one file, as gsplat
+// keeps its rasterize backward: its parts share the per-tile state and are
+// only correct together. The slow reference it is tested against is kept
+// apart, in tests/splat/render/reference_renderer.cc.
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
