@@ -43,7 +43,8 @@ int main(int argc, char** argv) {
   splat::write_gaussian_ply(ply, m);
 
   const auto start = std::chrono::steady_clock::now();
-  eval::write_viewer(out / "viewer", {"bench", scene, ply, ply, {}, {}});
+  eval::write_viewer(out / "viewer",
+                     {.name = "bench", .scene = scene, .model = ply, .model_ply = ply});
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const fs::path dir = out / "viewer" / "bench";

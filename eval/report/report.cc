@@ -29,8 +29,12 @@ namespace {
 // Writes the scene's 3D viewer into out/viewer/ and links it.
 void add_viewer(const fs::path& out, const SceneReportInput& in, ReportDocument& doc) {
   const fs::path page =
-      write_viewer(out / "viewer", {in.name, in.viewer_scene.empty() ? in.scene : in.viewer_scene,
-                                    in.model, in.model_ply, in.metrics, in.queries});
+      write_viewer(out / "viewer", {.name = in.name,
+                                    .scene = in.viewer_scene.empty() ? in.scene : in.viewer_scene,
+                                    .model = in.model,
+                                    .model_ply = in.model_ply,
+                                    .metrics = in.metrics,
+                                    .queries = in.queries});
   const std::string serve = fmt::format(
       "python3 -m http.server 8000 in the report's folder, then open http://localhost:8000/{}",
       page.parent_path().generic_string() + "/");

@@ -32,13 +32,13 @@
 namespace eval {
 
 struct ViewerInput {
-  std::string name;                    // the scene's name (its folder in viewer/)
-  std::filesystem::path scene;         // the scene folder the stages read (cameras)
-  std::filesystem::path model;         // stage two's model: checkpoint or PLY
-  std::filesystem::path model_ply;     // optional: the same model's PLY, linked
-  std::filesystem::path metrics;       // optional: op2gs-eval's metrics.json
-  std::filesystem::path queries;       // optional: op2gs-query's query.json
-  std::filesystem::path vote_summary;  // optional: op2gs-vote's summary.json (names)
+  std::string name;                         // the scene's name (its folder in viewer/)
+  std::filesystem::path scene;              // the scene folder the stages read (cameras)
+  std::filesystem::path model;              // stage two's model: checkpoint or PLY
+  std::filesystem::path model_ply = {};     // optional: the same model's PLY, linked
+  std::filesystem::path metrics = {};       // optional: op2gs-eval's metrics.json
+  std::filesystem::path queries = {};       // optional: op2gs-query's query.json
+  std::filesystem::path vote_summary = {};  // optional: op2gs-vote's summary.json (names)
 };
 
 // Writes <out>/vendor.min.js and <out>/<name>/; returns the page's path

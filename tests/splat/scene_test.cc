@@ -1,5 +1,6 @@
 #include "splat/scene.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -27,7 +28,7 @@ void make_scene(const std::filesystem::path& root, int n, int w, int h, int mode
     im.image_id = uint32_t(i + 1);
     im.camera_id = 1;
     im.tvec = {double(i), 0, 0};
-    im.name = "v" + std::to_string(1000 + i) + ".png";
+    im.name = fmt::format("v{}.png", 1000 + i);
     m.images[im.image_id] = im;
     ImageRGB img(w, h);
     std::fill(img.data.begin(), img.data.end(), float(i % 256) / 255.f);

@@ -206,8 +206,11 @@ TEST(Sam2Corruption, BorderBiasIsTheSameSignForAnObjectInEveryView) {
   o.border_bias = 1;
   for (uint64_t seed = 1; seed <= 6; ++seed) {
     const splat::IdMap m = corrupt_like_sam2(blocks(), {1, 2, 3}, o, seed);
-    for (size_t i = 0; i < m.ids.size(); ++i)
-      if (blocks().ids[i] != 0) ASSERT_TRUE(m.ids[i] == blocks().ids[i] || m.ids[i] == 0);
+    for (size_t i = 0; i < m.ids.size(); ++i) {
+      if (blocks().ids[i] != 0) {
+        ASSERT_TRUE(m.ids[i] == blocks().ids[i] || m.ids[i] == 0);
+      }
+    }
   }
 }
 
