@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The one-command demo: installs the Debian packages and builds (scripts/setup.sh),
+# The one-command demo: installs the Debian packages and builds the stages (scripts/setup.sh),
 # then runs every stage on the built-in synthetic scene with pipeline/Makefile
 # (DATASET=synthetic), SfM included, and prints where the report is and the
 # headline numbers:
@@ -20,5 +20,5 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 work="$root/demo"
 if [ $# -gt 0 ] && [[ "$1" != -* ]] && [[ "$1" != *=* ]]; then work="$1"; shift; fi
-"$root/scripts/setup.sh"
+"$root/scripts/setup.sh" --stages-only
 make -f "$root/pipeline/Makefile" DATASET=synthetic WORK_ROOT="$work" "$@"

@@ -3,23 +3,27 @@
 # Idempotent and non-interactive: safe to run again; only missing packages are
 # installed and the build is incremental.
 #
-# Usage: scripts/setup.sh [--no-build] [--portable] [--build-dir DIR] [--tests]
-#   --tests  also installs what only the tests need (headless Chromium and
-#            python3 for the report and viewer tests, clang for fuzzing, Slurm)
+# Usage: scripts/setup.sh [--no-build] [--stages-only] [--portable] [--build-dir DIR] [--tests]
+#   --tests        also installs what only the tests need (headless Chromium and
+#                  python3 for the report and viewer tests, clang for fuzzing, Slurm)
+#   --stages-only  builds only the stage executables (what the pipeline runs),
+#                  not the tests and benchmarks (the demo: a quarter less to compile)
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build_dir="$root/build"
 do_build=1
+targets=()
 with_tests=0
 portable=OFF
 while [ $# -gt 0 ]; do
   case "$1" in
     --no-build) do_build=0 ;;
+    --stages-only) targets=(--target op2gs_stages) ;;
     --portable) portable=ON ;;
     --build-dir) build_dir="$2"; shift ;;
     --tests) with_tests=1 ;;
-    -h|--help) sed -n '2,9p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
     *) echo "setup.sh: unknown option '$1'" >&2; exit 2 ;;
   esac
   shift
@@ -55,5 +59,5 @@ fi
 if [ "$do_build" -eq 1 ]; then
   cmake -S "$root" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release \
     -DOP2GS_PORTABLE="$portable"
-  cmake --build "$build_dir" --parallel "$(nproc)"
+  cmake --build "$build_dir" --parallel "$(nproc)" "${targets[@]}"
 fi
