@@ -2,6 +2,9 @@
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/lsan_interface.h>
+#endif
 
 #include <cmath>
 
@@ -152,6 +155,13 @@ TEST(Image, TruncatedPngIsRejected) {
   write_image_rgb(dir / "a.png", gradient(64, 64));
   const std::string bytes = testing_util::read_file(dir / "a.png");
   write_file(dir / "cut.png", bytes.substr(0, bytes.size() / 2));
+#if defined(__SANITIZE_ADDRESS__)
+  // OpenImageIO 2.4's PNG reader leaks its error string when libpng longjmps
+  // out of the cut file (tests/fuzz/lsan.supp). The suppression there needs
+  // OpenImageIO's frame in the leak's stack, which the fast unwinder loses
+  // inside libstdc++; so the leak checker skips this one read instead.
+  __lsan::ScopedDisabler third_party_leak;
+#endif
   EXPECT_THROW(read_image_rgb(dir / "cut.png"), InputError);
 }
 
