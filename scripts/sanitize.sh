@@ -5,7 +5,7 @@
 # start included. Each sanitizer report goes to a file of its own; the run
 # fails when a test fails or when there is any report (they are printed).
 # Every test passes under it, the pipeline and fault tests included, in about
-# 80 minutes of tests on 2 cores after the build (docs/reliability.md).
+# 45 minutes of tests on 2 cores after a 40-minute build (docs/reliability.md).
 # Usage: scripts/sanitize.sh [BUILD_DIR]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
