@@ -90,7 +90,7 @@ median() { sort -g | awk '{ a[NR] = $1 } END { if (NR == 0) exit 1; print a[int(
 op2gs_seconds() {
   local log="$1" first="$2" last="$3"
   local n
-  n=$(grep -c '"iteration"' "$log" || true)
+  n=$(awk '/"iteration"/ { n++ } END { print n + 0 }' "$log")
   [ "$n" -ge $((last - first + 1)) ] || fail "$log: $n iterations logged, expected $((last - first + 1))"
   grep '"elapsed_s"' "$log" | sed -E 's/.*"elapsed_s":([0-9.e+-]+).*"iteration":([0-9]+).*/\2 \1/' |
     awk -v first="$first" '$1 > first { if (prev != "") print $2 - prev; prev = $2 } $1 == first { prev = $2 }' |
@@ -104,7 +104,7 @@ op2gs_gaussians() { tail -1 "$1" | sed -E 's/.*"gaussians":([0-9]+).*/\1/'; }
 opensplat_seconds() {
   local log="$1" expected="$2"
   local n
-  n=$(grep -c ' Step [0-9]*:' "$log" || true)
+  n=$(awk '/ Step [0-9]*:/ { n++ } END { print n + 0 }' "$log")
   [ "$n" -eq "$expected" ] || fail "$log: $n steps printed, expected $expected"
   grep ' Step [0-9]*:' "$log" | awk 'NR > 1 { print $1 - prev } { prev = $1 }' | median
 }
