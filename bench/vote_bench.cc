@@ -63,6 +63,7 @@ fs::path make_scene(size_t gaussians, int views) {
   // photo, copied per view.
   const fs::path blank = dir / "blank.png";
   write_image_rgb(blank, ImageRGB(kWidth, kHeight));
+  fs::create_directories(dir / "images");
   for (int i = 0; i < views; ++i) {
     ColmapImage image;
     image.image_id = uint32_t(i + 1);
@@ -71,8 +72,7 @@ fs::path make_scene(size_t gaussians, int views) {
     image.tvec = cams[i].t;
     image.name = "view_" + std::to_string(1000 + i) + ".png";
     model.images[image.image_id] = image;
-    fs::create_directories(dir / "images");
-    fs::copy_file(blank, dir / "images" / image.name, fs::copy_options::overwrite_existing);
+    fs::copy_file(blank, dir / "images" / image.name);
     write_id_map(dir / "sam2" / image.name, id_map_of(i), 16);
   }
   write_colmap_model(model, dir / "sparse" / "0", ColmapFormat::kBinary);
