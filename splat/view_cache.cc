@@ -1,5 +1,9 @@
 #include "splat/view_cache.h"
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
 namespace splat {
 
 ViewCache::ViewCache(Loader loader, size_t max_bytes)
@@ -10,6 +14,22 @@ std::shared_ptr<const ImageRGB> ViewCache::get(size_t index) {
 }
 
 void ViewCache::get_into(size_t index, ImageRGB& out) { packed(index)->unpack_into(out); }
+
+size_t ViewCache::preload(const std::vector<size_t>& indices) {
+  // One view a task: a decode is long, and the views' sizes may differ.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, indices.size(), 1), [&](const auto& range) {
+    for (size_t k = range.begin(); k < range.end(); ++k) {
+      {
+        std::lock_guard lock(mutex_);
+        if (bytes_ >= max_bytes_ || entries_.count(indices[k])) continue;
+      }
+      packed(indices[k]);
+    }
+  });
+  std::lock_guard lock(mutex_);
+  return size_t(std::count_if(indices.begin(), indices.end(),
+                              [&](size_t i) { return entries_.count(i) > 0; }));
+}
 
 std::shared_ptr<const PackedImageRGB> ViewCache::packed(size_t index) {
   {

@@ -10,6 +10,7 @@
 #include <memory>
 #include <mutex>
 #include <unordered_map>
+#include <vector>
 
 #include "splat/image.h"
 #include "splat/packed_image.h"
@@ -29,6 +30,12 @@ class ViewCache {
   // The same into `out`: a buffer reused from view to view (the trainer's
   // target image) is not reallocated.
   void get_into(size_t index, ImageRGB& out);
+  // Decodes the views not yet held, on all cores, in the order given, until
+  // the cache is full: a trainer that visits every view calls it once before
+  // its first iteration, so no iteration waits on a decode (OpenSplat and
+  // the 3DGS reference load every photo up front too). Returns how many of
+  // the views are held afterwards.
+  size_t preload(const std::vector<size_t>& indices);
 
   size_t bytes_held() const;
   size_t views_held() const;

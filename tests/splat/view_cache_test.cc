@@ -1,9 +1,12 @@
 #include "splat/view_cache.h"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
+#include <numeric>
+#include <stdexcept>
 #include <thread>
 
 namespace splat {
@@ -76,6 +79,38 @@ TEST(ViewCache, GetIntoWritesTheView) {
   EXPECT_EQ(out.width, 10);
   EXPECT_EQ(out.data[0], 7.f);
   EXPECT_EQ(out.data[1], 0.3f);
+}
+
+TEST(ViewCache, PreloadDecodesEachViewOnceAndThenServesIt) {
+  ViewCache cache(image_of, 8 * 1200);
+  EXPECT_EQ(cache.preload({0, 1, 2, 3, 4}), 5u);
+  EXPECT_EQ(cache.loads(), 5u);
+  EXPECT_EQ(cache.preload({2, 3, 4, 5}), 4u);  // only 5 is new
+  EXPECT_EQ(cache.loads(), 6u);
+  for (size_t i = 0; i < 6; ++i) EXPECT_EQ(cache.get(i)->data[0], float(i));
+  EXPECT_EQ(cache.loads(), 6u);
+}
+
+TEST(ViewCache, PreloadStopsWhenTheCacheIsFull) {
+  ViewCache cache(image_of, 3 * 1200);
+  std::vector<size_t> views(100);
+  std::iota(views.begin(), views.end(), size_t(0));
+  const size_t held = cache.preload(views);
+  EXPECT_LE(held, 3u);
+  EXPECT_GE(held, 2u);  // a view decoded in parallel with the one that fills it may evict one
+  EXPECT_LE(cache.bytes_held(), 3u * 1200);
+  // No view starts decoding once the cache is full: at most one a thread beyond.
+  EXPECT_LE(cache.loads(), 3u + size_t(tbb::this_task_arena::max_concurrency()));
+}
+
+TEST(ViewCache, PreloadPassesOnTheLoadersError) {
+  ViewCache cache(
+      [](size_t i) -> PackedImageRGB {
+        if (i == 3) throw std::runtime_error("view 3 is unreadable");
+        return image_of(i);
+      },
+      8 * 1200);
+  EXPECT_THROW(cache.preload({0, 1, 2, 3}), std::runtime_error);
 }
 
 TEST(ViewCache, ConcurrentReadersGetCorrectImages) {
