@@ -42,11 +42,16 @@ warmup="${WARMUP:-0}"
 stage_one_points=(2000 5000 10000 15000)
 read -r -a points <<< "${POINTS:-0 ${stage_one_points[*]} 20000 25000}"
 
-# A timed run's output goes to its folder's run.log.
+# A timed run, its output in its folder's run.log; a failing run prints the
+# log's tail and fails (the caller then fails the mode).
 run() {
   local tmp="$1"
   shift
-  "$@" > "$tmp/run.log" 2>&1 || true
+  if ! "$@" > "$tmp/run.log" 2>&1; then
+    echo "bench/studies/full_schedule.sh: failed: $*" >&2
+    tail -3 "$tmp/run.log" >&2
+    return 1
+  fi
 }
 
 make_scene() {  # DIR BUILD
@@ -77,7 +82,7 @@ resume_from() {  # TMP FULL SUBDIR STAGE
   mkdir -p "$1/$3checkpoints"
   ln -s "$kept" "$1/$3checkpoints/latest.ckpt"
   run "$1" "$bin/$4" "$dir/scene" "$1" --resume --iterations "$stop" \
-    --checkpoint-every 1000000 --threads "$threads" $no_test
+    --checkpoint-every 1000000 --threads "$threads" $no_test || exit 1
 }
 
 # Times SAMPLE iterations from iteration K (after WARMUP untimed ones) with
@@ -94,7 +99,7 @@ time_from() {  # BUILD DIR K THREADS
   "$bin/op2gs-train" --help | grep -q -- --no-final-test && no_test=--no-final-test
   if [ "$k" -eq 0 ]; then
     run "$tmp" "$bin/op2gs-train" "$dir/scene" "$tmp" --iterations "$stop" --threads "$threads" \
-      $no_test
+      $no_test || exit 1
     log="$tmp/train_log.jsonl"
   elif [ "$k" -lt 20000 ]; then
     resume_from "$tmp" "$full" "" op2gs-train || { rm -rf "$tmp"; return; }
@@ -103,7 +108,7 @@ time_from() {  # BUILD DIR K THREADS
     [ -f "$full/vote/point_cloud.ply" ] || { rm -rf "$tmp"; return; }
     run "$tmp" "$bin/op2gs-learn" "$dir/scene" "$tmp" --checkpoint "$full/checkpoints/iteration_$k.ckpt" \
       --labels "$full/vote/point_cloud.ply" --iterations "$stop" \
-      --checkpoint-every 1000000 --threads "$threads" $no_test
+      --checkpoint-every 1000000 --threads "$threads" $no_test || exit 1
     log="$tmp/learn/train_log.jsonl"
   else
     resume_from "$tmp" "$full" learn/ op2gs-learn || { rm -rf "$tmp"; return; }
