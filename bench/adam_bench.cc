@@ -1,9 +1,10 @@
 // One Adam step over every parameter group (59 floats per Gaussian), as the
 // trainer takes it each iteration, at the sizes training reaches.
-// {Gaussians, percent in view}: at 100 every gradient is read; below, a
-// random share of the Gaussians is in view and the others step with a zero
-// gradient they do not read, as the trainer's (about 55% late in training,
-// in no order by index).
+// {Gaussians, percent in view, sparse}: at 100 every gradient is read;
+// below, a random share of the Gaussians is in view and the others step with
+// a zero gradient they do not read, as the trainer's (about 55% late in
+// training, in no order by index), or with sparse 1 do not step at all
+// (GaussianAdam::Culled::kKeep).
 //
 //   build/bench/adam_bench
 
@@ -37,13 +38,17 @@ void BM_AdamStep(benchmark::State& state) {
   std::array<float, kParamGroups> lr;
   lr.fill(1e-3f);
   lr[int(ParamGroup::kInstanceOpacity)] = 0;  // stage one: no sigma*
-  for (auto _ : state) adam.step(model, grads, lr, {}, kMaxShDegree, in_view == 100);
+  const GaussianAdam::Culled culled = state.range(2)   ? GaussianAdam::Culled::kKeep
+                                      : in_view == 100 ? GaussianAdam::Culled::kReadGradients
+                                                       : GaussianAdam::Culled::kZeroGradients;
+  for (auto _ : state) adam.step(model, grads, lr, {}, kMaxShDegree, culled);
   state.counters["Gaussians"] = double(n);
 }
 BENCHMARK(BM_AdamStep)
-    ->Args({230000, 100})
-    ->Args({466000, 100})
-    ->Args({466000, 55})
+    ->Args({230000, 100, 0})
+    ->Args({466000, 100, 0})
+    ->Args({466000, 55, 0})
+    ->Args({466000, 55, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -20,7 +20,8 @@
 # every 32 or 64 steps (the gradients summed in between).
 # op2gs's time per iteration comes from its train_log.jsonl, OpenSplat's from
 # the moments its "Step N" lines appear; each run's median over its steps
-# after the first (the first pays for warming up).
+# after the first (the first pays for warming up). Both decode every photo
+# before their first step, so no timed step waits on a decode.
 #
 # The scene folder is an op2gs scene with images/ and a COLMAP sparse/0/ (for
 # example op2gs-synth's scene, or op2gs-sfm's work/sfm/scene/). OpenSplat
@@ -42,6 +43,9 @@
 # options: its checkpoints/latest.ckpt and point_cloud/iteration_LATE_AT/).
 # Any failing step stops the script with its log's tail.
 set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+# shellcheck source=bench/timing.sh
+source "$here/timing.sh"
 opensplat="$(realpath "$1")"
 build="$(cd "$2" && pwd)"
 scene="$(cd "$3" && pwd)"
@@ -55,48 +59,25 @@ late_at="${LATE_AT:-5000}"
 train="$build/stages/op2gs-train"
 mkdir -p "$out/logs"
 out="$(cd "$out" && pwd)"
+logs="$out/logs"
 
-fail() { echo "opensplat_ab: $*" >&2; exit 1; }
 [ -x "$opensplat" ] || fail "$opensplat: not an executable (the OpenSplat binary)"
 [ -x "$train" ] || fail "$train: missing (build op2gs first)"
 for f in images sparse/0; do
   [ -e "$scene/$f" ] || fail "$scene/$f: missing (an op2gs scene folder: images/, sparse/0/)"
 done
-# Runs a step with its output in logs/<label>.log; on failure prints its tail and stops.
-step() {
-  local label="$1"
-  shift
-  if ! "$@" > "$out/logs/$label.log" 2>&1; then
-    tail -20 "$out/logs/$label.log" >&2
-    fail "$label failed (log: $out/logs/$label.log)"
-  fi
-}
-# Like step, but each output line prefixed with the moment it appeared.
+# Like step (timing.sh), but each output line prefixed with the moment it appeared.
 step_timed() {
   local label="$1"
   shift
   local status=0
   "$@" 2>&1 | while IFS= read -r line; do printf '%s %s\n' "$EPOCHREALTIME" "$line"; done \
-    > "$out/logs/$label.log" || status=$?
+    > "$logs/$label.log" || status=$?
   if [ "$status" -ne 0 ]; then
-    tail -20 "$out/logs/$label.log" >&2
-    fail "$label failed (log: $out/logs/$label.log)"
+    tail -20 "$logs/$label.log" >&2
+    fail "$label failed (log: $logs/$label.log)"
   fi
 }
-median() { sort -g | awk '{ a[NR] = $1 } END { if (NR == 0) exit 1; print a[int((NR + 1) / 2)] }'; }
-
-# Seconds per iteration of an op2gs run: the median step of its train log,
-# the first step left out. Fails unless every step is there.
-op2gs_seconds() {
-  local log="$1" first="$2" last="$3"
-  local n
-  n=$(awk '/"iteration"/ { n++ } END { print n + 0 }' "$log")
-  [ "$n" -ge $((last - first + 1)) ] || fail "$log: $n iterations logged, expected $((last - first + 1))"
-  grep '"elapsed_s"' "$log" | sed -E 's/.*"elapsed_s":([0-9.e+-]+).*"iteration":([0-9]+).*/\2 \1/' |
-    awk -v first="$first" '$1 > first { if (prev != "") print $2 - prev; prev = $2 } $1 == first { prev = $2 }' |
-    median
-}
-op2gs_gaussians() { tail -1 "$1" | sed -E 's/.*"gaussians":([0-9]+).*/\1/'; }
 
 # Seconds per iteration of an OpenSplat run: the median gap between its
 # "Step N" lines (so the first step, which ends the loading, is left out).

@@ -57,11 +57,12 @@ void adam_update(float* __restrict p, const float* __restrict grad, float* __res
 // adam_update over n Gaussians of kWidth values each (its formulas written
 // again: through a shared inline helper GCC no longer vectorises this loop),
 // with the gradient of those out of view (visible[i] == 0) taken as +0,
-// whatever it holds: the same results as adam_update<true> gives them. For groups of a few values
+// whatever it holds: the same results as adam_update<true> gives them; or,
+// with kKeepCulled, those left unchanged. For groups of a few values
 // a Gaussian: the Gaussians in view come in no order by index, about one in
 // two late in training, and a branch or a call per run of them cost more
 // than the step itself; reading the few unused gradients costs less.
-template <int kWidth>
+template <int kWidth, bool kKeepCulled>
 void adam_update_selected(float* __restrict p, const float* __restrict grad, float* __restrict m,
                           float* __restrict v, const uint8_t* __restrict visible, size_t n,
                           const AdamStep& a) {
@@ -72,30 +73,38 @@ void adam_update_selected(float* __restrict p, const float* __restrict grad, flo
       const float g = visible[i] ? read : 0.f;
       const float mi = a.b1 * m[j] + (1 - a.b1) * g;
       const float vi = a.b2 * v[j] + (1 - a.b2) * g * g;
-      m[j] = mi;
-      v[j] = vi;
-      p[j] -= a.step_size * mi / (std::sqrt(vi) * a.inv_bc2_sqrt + a.eps);
+      const float pi = p[j] - a.step_size * mi / (std::sqrt(vi) * a.inv_bc2_sqrt + a.eps);
+      const bool moves = !kKeepCulled || visible[i];
+      m[j] = moves ? mi : m[j];
+      v[j] = moves ? vi : v[j];
+      p[j] = moves ? pi : p[j];
     }
   }
 }
 
 // Adam over Gaussians [begin, end) of a group whose Gaussians have `width`
 // values, of which the first `active` move; the Gaussians out of view
-// (visible[i] == 0; null: none) step with zero gradients. Narrow groups go
-// through adam_update_selected; the others by runs of Gaussians in view and
-// out of view, the runs in view reading their gradients.
+// (visible[i] == 0; null: none) step with zero gradients, or not at all
+// with keep_culled. Narrow groups go through adam_update_selected; the
+// others by runs of Gaussians in view and out of view, the runs in view
+// reading their gradients.
 void adam_over_gaussians(float* p, const float* grad, float* m, float* v, size_t width,
-                         size_t active, const uint8_t* visible, size_t begin, size_t end,
-                         const AdamStep& a) {
+                         size_t active, const uint8_t* visible, bool keep_culled, size_t begin,
+                         size_t end, const AdamStep& a) {
   if (visible && active == width && width <= 4) {
     const size_t at = width * begin, n = end - begin;
+    auto selected = [&]<int kWidth>() {
+      const auto update =
+          keep_culled ? adam_update_selected<kWidth, true> : adam_update_selected<kWidth, false>;
+      update(&p[at], &grad[at], &m[at], &v[at], &visible[begin], n, a);
+    };
     switch (width) {
       case 1:
-        return adam_update_selected<1>(&p[at], &grad[at], &m[at], &v[at], &visible[begin], n, a);
+        return selected.template operator()<1>();
       case 3:
-        return adam_update_selected<3>(&p[at], &grad[at], &m[at], &v[at], &visible[begin], n, a);
+        return selected.template operator()<3>();
       case 4:
-        return adam_update_selected<4>(&p[at], &grad[at], &m[at], &v[at], &visible[begin], n, a);
+        return selected.template operator()<4>();
       default:
         break;
     }
@@ -104,6 +113,10 @@ void adam_over_gaussians(float* p, const float* grad, float* m, float* v, size_t
     const bool in_view = !visible || visible[i];
     size_t run_end = visible ? i + 1 : end;
     while (run_end < end && bool(visible[run_end]) == in_view) ++run_end;
+    if (!in_view && keep_culled) {
+      i = run_end;
+      continue;
+    }
     const auto update = in_view ? adam_update<false> : adam_update<true>;
     if (active == width) {
       const size_t at = width * i;
@@ -128,8 +141,9 @@ GaussianAdam::GaussianAdam(size_t n, AdamOptions options) : options_(options) {
 void GaussianAdam::step(GaussianModel& model, const GaussianGradients& grads,
                         const std::array<float, kParamGroups>& lr,
                         const std::array<bool, kParamGroups>& skip, int active_sh_degree,
-                        bool read_culled_gradients) {
-  const uint8_t* visible = read_culled_gradients ? nullptr : grads.visible.data();
+                        Culled culled) {
+  const uint8_t* visible = culled == Culled::kReadGradients ? nullptr : grads.visible.data();
+  const bool keep_culled = culled == Culled::kKeep;
   for (int gi = 0; gi < kParamGroups; ++gi) {
     if (skip[gi] || lr[gi] <= 0) continue;
     const ParamGroup g = ParamGroup(gi);
@@ -154,7 +168,7 @@ void GaussianAdam::step(GaussianModel& model, const GaussianGradients& grads,
     const size_t grain = std::max<size_t>(1, (size_t(1) << 16) / width);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, size_, grain), [&](const auto& r) {
       adam_over_gaussians(p.data(), grad.data(), s.m.data(), s.v.data(), width, active, visible,
-                          r.begin(), r.end(), a);
+                          keep_culled, r.begin(), r.end(), a);
     });
   }
 }

@@ -28,19 +28,31 @@ class GaussianAdam {
  public:
   explicit GaussianAdam(size_t num_gaussians, AdamOptions options = {});
 
+  // What a step does to the Gaussians out of view (grads.visible == 0).
+  enum class Culled {
+    // They step with the gradient as written (zeros, for the renderer's
+    // BackwardSettings::zero_culled_gradients).
+    kReadGradients,
+    // They step with a zero gradient without it being read (the renderer
+    // may leave it unwritten): the same step to the bit as kReadGradients
+    // with zeros. The reference recipe: its moments decay and momentum
+    // keeps moving them.
+    kZeroGradients,
+    // They do not step: values and moments stay as they are (sparse Adam, as
+    // gsplat's and Taming 3DGS's selective Adam), so a step touches only the
+    // Gaussians in view. Not the reference's results.
+    kKeep,
+  };
+
   // One Adam step of every group whose learning rate is given (> 0 or not
   // skipped); groups in `skip` keep their values and step count (as torch
   // skips parameters without a gradient).
   // With active_sh_degree < 3, the SH coefficients above it are left alone:
   // their gradients and moments are zero, so Adam would not move them anyway.
-  // With read_culled_gradients false, the Gaussians with grads.visible == 0
-  // step with a zero gradient without it being read (the renderer's
-  // BackwardSettings::zero_culled_gradients false leaves it unwritten): the
-  // same step to the bit as with the zeros read.
   void step(GaussianModel& model, const GaussianGradients& grads,
             const std::array<float, kParamGroups>& learning_rates,
             const std::array<bool, kParamGroups>& skip = {}, int active_sh_degree = kMaxShDegree,
-            bool read_culled_gradients = true);
+            Culled culled = Culled::kReadGradients);
 
   // Densification: new Gaussians appended with zero moments; removal keeps
   // the Gaussians with keep[i] != 0 in order.

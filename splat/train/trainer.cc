@@ -305,7 +305,8 @@ void Trainer::optimiser_step(const Step& step, const IterationStats& st,
       o.lr_scale,
       o.lr_rotation,
       model_.has_instance_opacity ? o.lr_instance_opacity : 0.f};
-  adam_.step(model_, grads_, lr, skip, sh_degree_, /*read_culled_gradients=*/false);
+  adam_.step(model_, grads_, lr, skip, sh_degree_,
+             o.sparse_adam ? GaussianAdam::Culled::kKeep : GaussianAdam::Culled::kZeroGradients);
   if (step.objects && protects())
     keep_in_mask(model_.instance_opacity_logits, model_.opacity_logits, protected_);
 }

@@ -77,6 +77,11 @@ struct TrainOptions {
   ImageLossOptions loss;
   ObjectLossOptions object_loss;  // stage two: lambda_o > 0
 
+  // Adam steps only the Gaussians in view; those out of view keep their
+  // values and moments (GaussianAdam::Culled::kKeep). Off in the reference
+  // recipe, whose culled Gaussians step on with zero gradients.
+  bool sparse_adam = false;
+
   int densify_from = 500;
   int densify_until = 15000;
   int densify_every = 100;

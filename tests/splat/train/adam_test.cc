@@ -66,13 +66,109 @@ TEST(Adam, CulledGaussiansStepAsWithZeroGradientsUnread) {
     for (int step = 1; step <= 4; ++step) {
       adam_read.step(read, gradients(step, 0.f), lr, {}, degree);
       adam_unread.step(unread, gradients(step, std::nanf("")), lr, {}, degree,
-                       /*read_culled_gradients=*/false);
+                       GaussianAdam::Culled::kZeroGradients);
     }
     for (int gi = 0; gi < kParamGroups; ++gi)
       EXPECT_EQ(group_values(read, ParamGroup(gi)), group_values(unread, ParamGroup(gi)))
           << group_name(ParamGroup(gi)) << ", degree " << degree;
     EXPECT_EQ(adam_read, adam_unread);
   }
+}
+
+// Sparse Adam: a Gaussian out of view keeps its values and moments, and the
+// ones in view step as torch's Adam with the group's step count, checked
+// value by value against a slow reference over steps whose views differ.
+TEST(Adam, KeepCulledStepsOnlyTheGaussiansInView) {
+  const size_t n = 23;
+  GaussianModel model;
+  model.resize(n);
+  model.has_instance_opacity = true;
+  for (int gi = 0; gi < kParamGroups; ++gi) {
+    std::vector<float>& values = group_values(model, ParamGroup(gi));
+    for (size_t k = 0; k < values.size(); ++k) values[k] = std::cos(float(k + 7 * gi));
+  }
+  struct Reference {
+    std::vector<float> p;
+    std::vector<double> m, v;
+  };
+  std::array<Reference, kParamGroups> ref;
+  for (int gi = 0; gi < kParamGroups; ++gi) {
+    ref[gi].p = group_values(model, ParamGroup(gi));
+    ref[gi].m.assign(ref[gi].p.size(), 0.0);
+    ref[gi].v.assign(ref[gi].p.size(), 0.0);
+  }
+  std::array<float, kParamGroups> lr;
+  lr.fill(0.01f);
+  GaussianAdam adam(n);
+  for (int step = 1; step <= 5; ++step) {
+    GaussianGradients g;
+    g.resize(n);
+    g.visible.resize(n);
+    // Runs of both, shifting from step to step; a NaN where the renderer
+    // leaves a culled Gaussian's gradient unwritten.
+    for (size_t i = 0; i < n; ++i) g.visible[i] = ((i + size_t(step)) % 5 < 2) ? 1 : 0;
+    for (int gi = 0; gi < kParamGroups; ++gi) {
+      auto& values = const_cast<std::vector<float>&>(group_gradients(g, ParamGroup(gi)));
+      const size_t width = values.size() / n;
+      for (size_t k = 0; k < values.size(); ++k)
+        values[k] = g.visible[k / width] ? std::sin(float(k + 11 * step + gi)) : std::nanf("");
+    }
+    adam.step(model, g, lr, {}, kMaxShDegree, GaussianAdam::Culled::kKeep);
+    const double bc1 = 1 - std::pow(0.9, step), bc2 = 1 - std::pow(0.999, step);
+    for (int gi = 0; gi < kParamGroups; ++gi) {
+      const std::vector<float>& grad = group_gradients(g, ParamGroup(gi));
+      Reference& r = ref[gi];
+      const size_t width = grad.size() / n;
+      for (size_t k = 0; k < grad.size(); ++k) {
+        if (!g.visible[k / width]) continue;  // values and moments stay
+        r.m[k] = 0.9 * r.m[k] + 0.1 * grad[k];
+        r.v[k] = 0.999 * r.v[k] + 0.001 * double(grad[k]) * grad[k];
+        r.p[k] -= float(0.01 * (r.m[k] / bc1) / (std::sqrt(r.v[k] / bc2) + 1e-15));
+      }
+      const std::vector<float>& got = group_values(model, ParamGroup(gi));
+      for (size_t k = 0; k < got.size(); ++k)
+        ASSERT_NEAR(got[k], r.p[k], 1e-5f * (1 + std::abs(r.p[k])))
+            << group_name(ParamGroup(gi)) << " value " << k << ", step " << step
+            << (g.visible[k / width] ? " (in view)" : " (culled)");
+    }
+  }
+  EXPECT_EQ(adam.steps(ParamGroup::kMeans), 5);
+}
+
+// With every Gaussian in view, sparse Adam is the reference's step (to float
+// rounding: GCC may contract the two loops' multiply-adds differently).
+TEST(Adam, KeepCulledWithAllInViewIsTheReferenceStep) {
+  const size_t n = 9;
+  GaussianModel dense, sparse;
+  dense.resize(n);
+  dense.has_instance_opacity = true;
+  for (int gi = 0; gi < kParamGroups; ++gi) {
+    std::vector<float>& values = group_values(dense, ParamGroup(gi));
+    for (size_t k = 0; k < values.size(); ++k) values[k] = std::cos(float(3 * k + gi));
+  }
+  sparse = dense;
+  GaussianGradients g;
+  g.resize(n);
+  g.visible.assign(n, 1);
+  for (int gi = 0; gi < kParamGroups; ++gi) {
+    auto& values = const_cast<std::vector<float>&>(group_gradients(g, ParamGroup(gi)));
+    for (size_t k = 0; k < values.size(); ++k) values[k] = std::sin(float(k + gi));
+  }
+  std::array<float, kParamGroups> lr;
+  lr.fill(0.02f);
+  GaussianAdam adam_dense(n), adam_sparse(n);
+  for (int step = 0; step < 3; ++step) {
+    adam_dense.step(dense, g, lr);
+    adam_sparse.step(sparse, g, lr, {}, kMaxShDegree, GaussianAdam::Culled::kKeep);
+  }
+  for (int gi = 0; gi < kParamGroups; ++gi) {
+    const auto& a = group_values(dense, ParamGroup(gi));
+    const auto& b = group_values(sparse, ParamGroup(gi));
+    for (size_t k = 0; k < a.size(); ++k)
+      ASSERT_NEAR(a[k], b[k], 1e-6f * (1 + std::abs(a[k])))
+          << group_name(ParamGroup(gi)) << " value " << k;
+  }
+  EXPECT_EQ(adam_dense.steps(ParamGroup::kMeans), adam_sparse.steps(ParamGroup::kMeans));
 }
 
 TEST(Adam, SkippedGroupsKeepValuesAndStepCount) {

@@ -56,6 +56,23 @@ TEST(Trainer, TestPsnrRisesWellAboveTheStart) {
   EXPECT_GT(t.model().size(), 3000u);
 }
 
+// Sparse Adam reaches the trainer: it trains (the PSNR rises as in the
+// reference recipe) and its model is not the reference's.
+TEST(Trainer, SparseAdamTrainsAndIsNotTheReferenceStep) {
+  TrainOptions sparse_options = quick_options();
+  sparse_options.sparse_adam = true;
+  Trainer sparse(tiny_scene(), sparse_options), dense(tiny_scene(), quick_options());
+  sparse.initialize_from_sfm();
+  dense.initialize_from_sfm();
+  const double before = mean_test_psnr(sparse);
+  sparse.train_until(400);
+  dense.train_until(400);
+  const double after = mean_test_psnr(sparse), reference = mean_test_psnr(dense);
+  EXPECT_GT(after, before + 5.0) << "before " << before << " dB, after " << after << " dB";
+  EXPECT_GT(after, reference - 1.0) << "sparse " << after << " dB, reference " << reference;
+  EXPECT_FALSE(sparse.model() == dense.model());
+}
+
 TEST(Trainer, ResumeGivesTheSameParametersAsAnUninterruptedRun) {
   TempDir dir;
   Trainer straight(tiny_scene(), quick_options());

@@ -1,0 +1,38 @@
+# Shared by the bench scripts that time op2gs's training steps
+# (opensplat_ab.sh, thread_scaling.sh): sourced, not run. The sourcing
+# script sets `logs`, the folder its steps' logs go to.
+
+# Stops the script with a one-line message.
+fail() {
+  echo "$(basename "$0" .sh): $*" >&2
+  exit 1
+}
+
+# Runs a step with its output in $logs/<label>.log; on failure prints its
+# tail and stops.
+step() {
+  local label="$1"
+  shift
+  if ! "$@" > "$logs/$label.log" 2>&1; then
+    tail -20 "$logs/$label.log" >&2
+    fail "$label failed (log: $logs/$label.log)"
+  fi
+}
+
+# The median of the numbers on stdin, one a line; fails on none.
+median() { sort -g | awk '{ a[NR] = $1 } END { if (NR == 0) exit 1; print a[int((NR + 1) / 2)] }'; }
+
+# Seconds per iteration of an op2gs run: the median step of its train log,
+# the first step (FIRST) left out. Fails unless every step is there.
+op2gs_seconds() {  # LOG FIRST LAST
+  local log="$1" first="$2" last="$3"
+  local n
+  n=$(awk '/"iteration"/ { n++ } END { print n + 0 }' "$log")
+  [ "$n" -ge $((last - first + 1)) ] || fail "$log: $n iterations logged, expected $((last - first + 1))"
+  grep '"elapsed_s"' "$log" | sed -E 's/.*"elapsed_s":([0-9.e+-]+).*"iteration":([0-9]+).*/\2 \1/' |
+    awk -v first="$first" '$1 > first { if (prev != "") print $2 - prev; prev = $2 } $1 == first { prev = $2 }' |
+    median
+}
+
+# The Gaussians of an op2gs run's last logged step.
+op2gs_gaussians() { tail -1 "$1" | sed -E 's/.*"gaussians":([0-9]+).*/\1/'; }
