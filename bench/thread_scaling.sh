@@ -21,7 +21,8 @@
 # lerf"), LEARN_OPTS (op2gs-learn's, e.g. "--id-maps object_mask"), STEPS
 # (100), ROUNDS (2), SCHEDULE (7500), LATE_AT (5000), MODEL (an op2gs
 # stage-one work folder with checkpoints/latest.ckpt at LATE_AT; without it
-# only the early phase runs), LABELS.
+# only the early phase runs), LABELS, PHASES (which of the phases to run;
+# default all that MODEL and LABELS allow).
 # Any failing step stops the script with its log's tail.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -87,6 +88,13 @@ run_phase() {  # PHASE THREADS LABEL
 phases=(early)
 [ -n "$model" ] && phases+=(late)
 [ -n "$labels" ] && phases+=(stage-two)
+if [ -n "${PHASES:-}" ]; then
+  read -r -a wanted <<< "$PHASES"
+  for phase in "${wanted[@]}"; do
+    [[ " ${phases[*]} " == *" $phase "* ]] || fail "PHASES: $phase is not one of: ${phases[*]} (late needs MODEL, stage-two LABELS)"
+  done
+  phases=("${wanted[@]}")
+fi
 results="$out/results.jsonl"
 : > "$results"
 for round in $(seq "$rounds"); do

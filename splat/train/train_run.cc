@@ -93,16 +93,18 @@ int last_opacity_reset(const fs::path& work, int iteration) {
   return last;
 }
 
-// Decodes the training views before the first iteration, on all cores, as
-// far as the view cache holds them: a decode on first use kept the other
-// core idle and made each of the first epoch's iterations slower.
-void preload_training_views(Trainer& t) {
+// Decodes the training views (and in stage two their ID maps) before the
+// first iteration, on all cores: a decode at first use kept the other core
+// idle and made each iteration of the first epoch slower.
+void preload_training_inputs(Trainer& t) {
   const auto start = std::chrono::steady_clock::now();
-  const size_t held = t.scene().preload(t.split().train);
+  const Trainer::Preloaded p = t.preload_training_inputs();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  spdlog::info("decoded {} of {} training views in {:.1f} s{}", held, t.split().train.size(),
-               seconds, held < t.split().train.size() ? " (the view cache holds no more)" : "");
+  const size_t n = t.split().train.size();
+  spdlog::info("decoded {} of {} training views{} in {:.1f} s{}", p.views, n,
+               p.id_maps ? fmt::format(" and {} ID maps", p.id_maps) : "", seconds,
+               p.views < n ? " (the view cache holds no more)" : "");
 }
 
 TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
@@ -133,7 +135,7 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
                  trainer.model().size(), trainer.split().train.size(), trainer.split().test.size(),
                  trainer.split().rule);
   }
-  preload_training_views(trainer);
+  preload_training_inputs(trainer);
   fs::create_directories(work);
   remove_abandoned_temporaries(work);
   TrainingLog log(out.log(), trainer.iteration());

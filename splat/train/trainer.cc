@@ -1,6 +1,7 @@
 #include "splat/train/trainer.h"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -115,6 +116,20 @@ void Trainer::start_instance_learning(const std::vector<int32_t>& labels) {
     check_id_map_header(require_id_map(id_map_folder(), view.name), view.camera.width,
                         view.camera.height);
   }
+}
+
+Trainer::Preloaded Trainer::preload_training_inputs() {
+  Preloaded p;
+  p.views = scene_->preload(split_.train);
+  if (!learns_instances()) return p;
+  // Sized and resolved before the threads fill their own views' entries.
+  if (object_maps_.size() != scene_->views().size()) object_maps_.resize(scene_->views().size());
+  id_map_folder();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, split_.train.size(), 1), [&](const auto& r) {
+    for (size_t k = r.begin(); k < r.end(); ++k) object_map(split_.train[k]);
+  });
+  p.id_maps = split_.train.size();
+  return p;
 }
 
 const fs::path& Trainer::id_map_folder() {

@@ -144,6 +144,14 @@ class Trainer {
   // the object loss is on and a training view has no ID map.
   void start_instance_learning(const std::vector<int32_t>& labels);
 
+  // Decodes the training views (as far as the view cache holds them) and, in
+  // stage two, their ID maps, on all cores, so that no iteration of the
+  // first epoch waits on a decode on one core. Returns how many of each.
+  struct Preloaded {
+    size_t views = 0, id_maps = 0;
+  };
+  Preloaded preload_training_inputs();
+
   // Runs iterations until `iteration() == until`; calls on_iteration after
   // each one. Throws TrainingDiverged on a non-finite loss.
   void train_until(int until, const std::function<void(const IterationStats&)>& on_iteration = {});

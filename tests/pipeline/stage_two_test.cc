@@ -25,6 +25,7 @@
 #include "splat/query/query_run.h"
 #include "splat/scene.h"
 #include "splat/train/train_run.h"
+#include "splat/train/trainer.h"
 #include "splat/view_split.h"
 #include "splat/work_layout.h"
 #include "synth/generator.h"
@@ -96,6 +97,27 @@ TEST(StageTwo, LearnsSigmaStarWithTheObjectLossAndResumesExactly) {
   resume.resume = true;
   run_training(scene(), b / "learn", resume);
   EXPECT_EQ(read_gaussian_ply(b / "learn/point_cloud/iteration_400/point_cloud.ply"), m);
+}
+
+// Decoding the views and ID maps up front, on all cores, changes no step.
+TEST(StageTwo, PreloadingTheInputsChangesNoStep) {
+  const TrainRunOptions o = learn_options(0);
+  const std::vector<int32_t> labels = read_gaussian_ply(o.labels_model).labels;
+  auto start = [&] {
+    auto t = std::make_unique<Trainer>(scene(), o.train);
+    t->load_checkpoint(o.start_checkpoint);
+    t->start_instance_learning(labels);
+    return t;
+  };
+  const auto preloaded = start(), lazy = start();
+  const Trainer::Preloaded p = preloaded->preload_training_inputs();
+  EXPECT_EQ(p.views, preloaded->split().train.size());
+  EXPECT_EQ(p.id_maps, preloaded->split().train.size());
+  EXPECT_EQ(preloaded->scene().cache().loads(), p.views);
+  preloaded->train_until(kStageOne + 20);
+  lazy->train_until(kStageOne + 20);
+  EXPECT_EQ(preloaded->scene().cache().loads(), p.views) << "no view decoded twice";
+  EXPECT_TRUE(preloaded->model() == lazy->model());
 }
 
 // With --protect-agreement, the sigma* of every Gaussian whose votes agree
