@@ -1,5 +1,6 @@
-// op2gs-train: stage one, 3DGS training with the reference recipe.
+// op2gs-train: stage one, 3DGS training with the paper's recipe or the fast one.
 
+#include "splat/train/recipe.h"
 #include "stages/training_cli.h"
 
 int main(int argc, char** argv) {
@@ -10,6 +11,12 @@ int main(int argc, char** argv) {
   app.add_option("work", work, "work folder for checkpoints, PLY, renders, logs")->required();
   stages::TrainingCli common(app, o);
   app.add_flag("--resume", o.resume, "continue from <work>/checkpoints/latest.ckpt");
+  std::string recipe = "paper";
+  app.add_option("--recipe", recipe,
+                 "paper: the reference 3DGS recipe; fast: sparse Adam and a resolution schedule "
+                 "(the views at a quarter size at first, full size from half the densification "
+                 "window on; docs/stages.md)")
+      ->capture_default_str();
   app.add_option("--densify-from", o.train.densify_from, "first densification iteration")
       ->capture_default_str();
   app.add_option("--densify-until", o.train.densify_until, "last densification iteration")
@@ -29,6 +36,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   return stages::run_stage(app, argc, argv, [&] {
     common.apply();
+    splat::apply_recipe(
+        stages::parse_choice<splat::TrainRecipe>(
+            "--recipe", recipe,
+            {{"paper", splat::TrainRecipe::kPaper}, {"fast", splat::TrainRecipe::kFast}}),
+        o.train);
     stages::TrainingCli::report(splat::run_training(scene, work, o), work);
   });
 }

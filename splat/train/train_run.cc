@@ -181,6 +181,10 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
                            ? json{{"pixel_loss", "generalized cross-entropy"}, {"q", pixel.q}}
                            : json{{"pixel_loss", "cross-entropy"}};
   }
+  // What of the fast recipe made the model (none of it in the paper's).
+  if (o.train.sparse_adam) m["sparse_adam"] = true;
+  if (const ResolutionScheduleOptions& r = o.train.resolution_schedule; r.enabled())
+    m["resolution_schedule"] = {{"start_downscale", r.start_downscale}, {"full_from", r.full_from}};
   write_text_atomically(out.metrics(), m.dump(2) + "\n");
   plot_training_curve(out.log(), out.curve());
 

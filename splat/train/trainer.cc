@@ -41,6 +41,7 @@ void TrainOptions::Check() const {
   exposure.Check();
   poses.Check();
   test_pose_fit.Check();
+  resolution_schedule.Check();
   if (instance_opacity_init >= 1 || (instance_opacity_init >= 0 && instance_opacity_init <= 0))
     fail("the initial instance opacity must be in (0, 1), or negative for sigma's");
   if (densify_every < 1 || opacity_reset_every < 1) fail("densification intervals must be >= 1");
@@ -219,6 +220,14 @@ Trainer::Step Trainer::start_step(IterationStats& st) {
   step.view = next_view();
   step.camera = camera_of(step.view);
   scene_->image_into(step.view, target_);
+  step.target = &target_;
+  st.downscale = learns_instances() ? 1 : training_downscale(o.resolution_schedule, it);
+  if (st.downscale > 1) {
+    const auto [w, h] = downscaled_size(target_.width, target_.height, st.downscale);
+    step.camera = step.camera.resized(w, h);
+    downscaled_target_ = resize_area(target_, w, h);
+    step.target = &downscaled_target_;
+  }
   step.settings = render_settings();
   // Adam reads grads_.visible and steps the culled Gaussians with zero
   // gradients without reading them.
@@ -251,7 +260,7 @@ void Trainer::forward_and_loss(const Step& step, IterationStats& st) {
     exposure_.apply(step.view, render_out_.color, exposed_);
     shown = exposed_;
   }
-  st.loss = image_loss(shown, target_, o.loss, &out_grads_.color, &loss_buffers_);
+  st.loss = image_loss(shown, *step.target, o.loss, &out_grads_.color, &loss_buffers_);
   if (step.objects && protects())
     st.object_loss = split_object_loss(render_out_.instance_maps, st.objects, step.objects->ids,
                                        o.object_loss.weight, &out_grads_.instance_maps,

@@ -31,6 +31,7 @@
 #include "splat/train/exposure.h"
 #include "splat/train/image_loss.h"
 #include "splat/train/object_loss.h"
+#include "splat/train/resolution_schedule.h"
 #include "splat/view_split.h"
 
 namespace splat {
@@ -81,6 +82,10 @@ struct TrainOptions {
   // values and moments (GaussianAdam::Culled::kKeep). Off in the reference
   // recipe, whose culled Gaussians step on with zero gradients.
   bool sparse_adam = false;
+  // Stage one's training views rendered with fewer pixels while the model is
+  // coarse (resolution_schedule.h); off in the reference recipe. Stage two
+  // always trains at full resolution, as its ID maps are.
+  ResolutionScheduleOptions resolution_schedule;
 
   int densify_from = 500;
   int densify_until = 15000;
@@ -108,6 +113,7 @@ struct IterationStats {
   size_t gaussians = 0;
   float lr_position = 0;
   int sh_degree = 0;
+  double downscale = 1;          // of this iteration's render (the resolution schedule)
   double object_loss = 0;        // L_obj before its weight (stage two)
   std::vector<int32_t> objects;  // the objects sampled for it
   DensifyResult densified;       // what densification did this iteration, if anything
@@ -200,6 +206,7 @@ class Trainer {
     RenderSettings settings;
     BackwardSettings backward;
     const ObjectMap* objects = nullptr;  // the view's objects when stage two learns sigma*
+    const ImageRGB* target = nullptr;    // the photo at the render's size
   };
   Step start_step(IterationStats& st);
   void forward_and_loss(const Step& step, IterationStats& st);
@@ -235,7 +242,8 @@ class Trainer {
   // Reused from iteration to iteration.
   std::unique_ptr<RenderState> render_state_;
   RenderOutput render_out_;
-  ImageRGB target_;  // the training view's photo, reused
+  ImageRGB target_;             // the training view's photo, reused
+  ImageRGB downscaled_target_;  // the photo at the resolution schedule's size
   RenderOutputGradients out_grads_;
   GaussianGradients grads_;
   ImageLossBuffers loss_buffers_;

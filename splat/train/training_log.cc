@@ -54,6 +54,7 @@ void TrainingLog::record(const IterationStats& s, double elapsed) {
                     {"split", s.densified.split},
                     {"pruned", s.densified.pruned}};
   if (s.opacity_reset) j["opacity_reset"] = true;
+  if (s.downscale != 1) j["downscale"] = s.downscale;
   if (!s.objects.empty()) j["object_loss"] = s.object_loss, j["objects"] = s.objects;
   append(j.dump());
 }

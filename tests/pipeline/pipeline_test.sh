@@ -79,6 +79,13 @@ mk DATASET=3dovs DATA_ROOT="$tmp/fx/3dovs" WORK_ROOT="$tmp/ovs" -n bed.sfm | gre
   fail "3DOVS SfM does not keep the LLFF cameras"
 mk DATASET=3dovs DATA_ROOT="$tmp/fx/3dovs" WORK_ROOT="$tmp/ovs" -n bed.eval |
   grep -- "--protocol 3dovs-lerf" > /dev/null || fail "3DOVS protocol"
+# RECIPE=fast reaches both training stages; the paper's recipe is the default.
+mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" RECIPE=fast \
+  -n figurines.learn > "$tmp/fast.log"
+grep -q -- "op2gs-train.*--recipe fast" "$tmp/fast.log" || { cat "$tmp/fast.log"; fail "RECIPE=fast: op2gs-train"; }
+grep -q -- "op2gs-learn.*--sparse-adam" "$tmp/fast.log" || fail "RECIPE=fast: op2gs-learn"
+mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" -n figurines.learn |
+  grep -- "op2gs-train.*--recipe paper" > /dev/null || fail "the paper's recipe is not the default"
 # Without the CLIP files a run still evaluates oracle mode, saying why query
 # mode is n/a, and neither embeds nor queries.
 mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" CLIP="$tmp/no-clip" \

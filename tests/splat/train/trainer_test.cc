@@ -73,6 +73,44 @@ TEST(Trainer, SparseAdamTrainsAndIsNotTheReferenceStep) {
   EXPECT_FALSE(sparse.model() == dense.model());
 }
 
+// The resolution schedule's slow reference: a schedule held at a
+// downscale of 2 (it reaches 1 only after a million iterations) renders
+// and compares each view as the scene loaded at half size does, so both
+// train the same model, through densification, bit for bit.
+TEST(Trainer, AResolutionScheduleAtHalfSizeTrainsAsTheHalfSizeScene) {
+  TrainOptions scheduled = quick_options();
+  scheduled.resolution_schedule = {2.0, 1000000};
+  TrainOptions half = quick_options();
+  half.scene.downscale = 2;
+  Trainer a(tiny_scene(), scheduled), b(tiny_scene(), half);
+  a.initialize_from_sfm();
+  b.initialize_from_sfm();
+  int downscaled = 0;
+  a.train_until(260, [&](const IterationStats& s) { downscaled += s.downscale > 1.99; });
+  b.train_until(260);
+  EXPECT_EQ(downscaled, 260);
+  EXPECT_GT(a.model().size(), b.model().size() / 2);  // densification ran
+  EXPECT_TRUE(a.model() == b.model()) << "the scheduled run differs from the half-size scene's";
+}
+
+// The fast recipe's schedule reaches full resolution at full_from and trains.
+TEST(Trainer, AResolutionScheduleEndsAtFullResolutionAndTrains) {
+  TrainOptions o = quick_options();
+  o.resolution_schedule = {4.0, 200};
+  Trainer t(tiny_scene(), o);
+  t.initialize_from_sfm();
+  const double before = mean_test_psnr(t);
+  std::vector<double> downscale;
+  t.train_until(400, [&](const IterationStats& s) { downscale.push_back(s.downscale); });
+  EXPECT_GT(downscale[0], 3.9);
+  EXPECT_NEAR(downscale[99], 2.0, 1e-9);  // iteration 100
+  EXPECT_GT(downscale[198], 1.0);         // iteration 199
+  EXPECT_EQ(downscale[199], 1.0);         // iteration 200
+  EXPECT_EQ(downscale[399], 1.0);
+  const double after = mean_test_psnr(t);
+  EXPECT_GT(after, before + 5.0) << "before " << before << " dB, after " << after << " dB";
+}
+
 TEST(Trainer, ResumeGivesTheSameParametersAsAnUninterruptedRun) {
   TempDir dir;
   Trainer straight(tiny_scene(), quick_options());

@@ -1,0 +1,26 @@
+#pragma once
+// The training recipes op2gs-train offers. The paper's is the reference
+// 3DGS recipe (docs/gaussian-splatting.md) and the default. The fast one
+// trades nothing the paper fixes (the loss, the learning rates, the
+// densification rule) for time:
+//   - sparse Adam: only the Gaussians in view step (TrainOptions::sparse_adam);
+//   - a resolution schedule: the training views at a quarter of their width
+//     and height at iteration 0, at full resolution from half the
+//     densification window on (or half the schedule, if shorter), so the
+//     Gaussians that densification adds late are fitted to full-resolution
+//     photos (resolution_schedule.h).
+
+#include <string>
+
+#include "splat/train/trainer.h"
+
+namespace splat {
+
+enum class TrainRecipe { kPaper, kFast };
+
+// Sets what the recipe changes from the paper's. Call it after the schedule's
+// length and the densification window are set: the fast recipe's resolution
+// schedule follows them.
+void apply_recipe(TrainRecipe recipe, TrainOptions& options);
+
+}  // namespace splat

@@ -1,0 +1,69 @@
+#include "splat/train/resolution_schedule.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "splat/train/recipe.h"
+
+namespace splat {
+namespace {
+
+TEST(ResolutionSchedule, OffRendersEveryIterationAtFullResolution) {
+  const ResolutionScheduleOptions off;
+  EXPECT_FALSE(off.enabled());
+  for (int it : {0, 1, 500, 30000}) EXPECT_EQ(training_downscale(off, it), 1.0);
+  // A start of 1 is off too, whatever the end.
+  EXPECT_EQ(training_downscale({1.0, 1000}, 10), 1.0);
+}
+
+TEST(ResolutionSchedule, FallsLogLinearlyToFullResolution) {
+  const ResolutionScheduleOptions o{4.0, 1000};
+  EXPECT_DOUBLE_EQ(training_downscale(o, 0), 4.0);
+  EXPECT_NEAR(training_downscale(o, 500), 2.0, 1e-12);  // halfway in log: sqrt(4)
+  EXPECT_NEAR(training_downscale(o, 250), std::pow(4.0, 0.75), 1e-12);
+  EXPECT_EQ(training_downscale(o, 1000), 1.0);
+  EXPECT_EQ(training_downscale(o, 5000), 1.0);
+  double last = 4.0;
+  for (int it = 1; it < 1000; ++it) {
+    const double d = training_downscale(o, it);
+    EXPECT_LE(d, last) << "iteration " << it;
+    EXPECT_GT(d, 1.0) << "iteration " << it;
+    last = d;
+  }
+}
+
+TEST(ResolutionSchedule, SizesAreRoundedAndNeverEmpty) {
+  EXPECT_EQ(downscaled_size(986, 728, 1.0), std::make_pair(986, 728));
+  EXPECT_EQ(downscaled_size(986, 728, 4.0), std::make_pair(247, 182));  // 246.5 rounds up
+  EXPECT_EQ(downscaled_size(640, 360, 2.0), std::make_pair(320, 180));
+  EXPECT_EQ(downscaled_size(3, 2, 8.0), std::make_pair(1, 1));
+}
+
+TEST(ResolutionSchedule, RejectsAStartBelowOne) {
+  EXPECT_THROW((ResolutionScheduleOptions{0.5, 100}.Check()), std::invalid_argument);
+  EXPECT_THROW((ResolutionScheduleOptions{2.0, -1}.Check()), std::invalid_argument);
+  EXPECT_NO_THROW((ResolutionScheduleOptions{2.0, 100}.Check()));
+}
+
+TEST(Recipe, PaperChangesNothingAndFastFollowsTheSchedule) {
+  TrainOptions paper;
+  apply_recipe(TrainRecipe::kPaper, paper);
+  EXPECT_FALSE(paper.sparse_adam);
+  EXPECT_FALSE(paper.resolution_schedule.enabled());
+
+  TrainOptions fast;  // the paper's 30,000 iterations, densification until 15,000
+  apply_recipe(TrainRecipe::kFast, fast);
+  EXPECT_TRUE(fast.sparse_adam);
+  EXPECT_EQ(fast.resolution_schedule.start_downscale, 4.0);
+  EXPECT_EQ(fast.resolution_schedule.full_from, 7500);
+
+  TrainOptions short_run;  // a schedule shorter than the densification window
+  short_run.total_iterations = 7000;
+  apply_recipe(TrainRecipe::kFast, short_run);
+  EXPECT_EQ(short_run.resolution_schedule.full_from, 3500);
+}
+
+}  // namespace
+}  // namespace splat
