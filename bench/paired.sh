@@ -34,7 +34,7 @@ run_build() {
   echo "op2gs-train/${iterations}_iterations[s] $(echo "$end - $start" | bc)"
 }
 
-for round in $(seq "$rounds"); do
+for _ in $(seq "$rounds"); do
   run_build "$old" | sed "s/^/old /"
   run_build "$new" | sed "s/^/new /"
 done | tee "$tmp/runs.txt"

@@ -8,6 +8,7 @@ build="${1:-build}"
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 for size in "40 320 240" "60 640 480"; do
+  # shellcheck disable=SC2086  # the three numbers, split on purpose
   set -- $size
   start=$(date +%s.%N)
   log=$("$build/stages/op2gs-synth" "$out/s_$1" --views "$1" --width "$2" --height "$3" 2>&1)

@@ -1,3 +1,4 @@
+# shellcheck shell=bash disable=SC2154
 # Shared by the bench scripts that time op2gs's training steps
 # (opensplat_ab.sh, thread_scaling.sh): sourced, not run. The sourcing
 # script sets `logs`, the folder its steps' logs go to.

@@ -20,7 +20,8 @@
 # init-<sigma* of every Gaussian at the start of stage two>. Pose variants:
 # fit (op2gs-render --fit-poses: the test views' cameras fitted to their
 # photos), poses (and op2gs-train --refine-poses), poses+tracks,
-# exposure+poses+tracks. Any variant followed by +protect-<share> (or
+# exposure+poses+tracks. The fast recipe: fast (op2gs-train --recipe fast,
+# op2gs-learn --sparse-adam). Any variant followed by +protect-<share> (or
 # protect-<share> alone, for plain) also protects the sigma* of Gaussians whose
 # votes agree at least that much (op2gs-learn --protect-agreement).
 # At the end, op2gs-report writes <out>/report/ (report.html, report.md) with
@@ -43,7 +44,21 @@ stage_one=$((20000 / scale))
 densify_until=$((15000 / scale))
 bin="$build/stages"
 mkdir -p "$out"
-quiet() { "$@" 2>&1 | tr '\r' '\n' | grep -v '^\[[#-]' | grep -E 'PSNR|joined|error|Error' || true; }
+# Runs a stage and shows only its result lines; a failing stage prints its
+# log's tail and stops the study.
+quiet() {
+  local log
+  log="$(mktemp)"
+  if ! "$@" > "$log" 2>&1; then
+    tail -20 "$log" >&2
+    rm -f "$log"
+    echo "capture_study: failed: $*" >&2
+    exit 1
+  fi
+  # grep's status 1 means no such line, which is fine; 2 is an error.
+  tr '\r' '\n' < "$log" | grep -v '^\[[#-]' | grep -E 'PSNR|joined|error|Error' || [ $? -eq 1 ]
+  rm -f "$log"
+}
 
 for condition in "$@"; do
   name="${condition%%=*}"
@@ -65,6 +80,10 @@ for condition in "$@"; do
       case "$recipe" in
         plain) ;;
         robust) learn_options=(--recipe robust) ;;
+        fast)
+          train_options=(--recipe fast)
+          learn_options=(--sparse-adam)
+          ;;
         lambda-*) learn_options=(--lambda-o "${variant#lambda-}") ;;
         m-*) learn_options=(--objects-per-step "${variant#m-}") ;;
         tau-*) render_options=(--tau "${variant#tau-}") ;;
@@ -108,6 +127,7 @@ for condition in "$@"; do
       suffix=""
       [[ " ${train_options[*]:-} " == *" --exposure-compensation "* ]] && suffix+="-exposure"
       [[ " ${train_options[*]:-} " == *" --refine-poses "* ]] && suffix+="-poses"
+      [[ " ${train_options[*]:-} " == *" --recipe fast "* ]] && suffix+="-fast"
       one="$dir/stage-one$suffix"
       if [ ! -f "$one/metrics.json" ]; then
         echo "== $name seed $seed: stage one ${train_options[*]:-}"
@@ -128,9 +148,9 @@ for condition in "$@"; do
           "${learn_options[@]}"
       fi
       quiet "$bin/op2gs-render" "$dir/scene" "$work" "${render_options[@]}"
-      "$bin/op2gs-eval" "$dir/scene" --pred dual-opacity="$work/render/masks" \
-        --pred baseline="$work/render/baseline_labels" --out "$work/metrics.json" > /dev/null 2>&1
-      "$bin/op2gs-floaters" "$dir/scene" "$work" > /dev/null 2>&1
+      quiet "$bin/op2gs-eval" "$dir/scene" --pred dual-opacity="$work/render/masks" \
+        --pred baseline="$work/render/baseline_labels" --out "$work/metrics.json"
+      quiet "$bin/op2gs-floaters" "$dir/scene" "$work"
       python3 - "$name" "$seed" "$variant" "$work" "$one" >> "$out/results.jsonl" <<'PY'
 import json, sys
 name, seed, variant, work, one = sys.argv[1:]

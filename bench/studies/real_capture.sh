@@ -34,7 +34,8 @@
 # photos at 640x360), SEED (of the mask errors, 1), MASK_ERRORS (options of
 # op2gs-mask-errors), VARIANTS ("paper": op2gs-learn's options per variant,
 # name=options with commas for spaces, e.g. "paper protect=--protect-agreement,0.9"),
-# CONDITIONS ("exact sam2like"; "video" adds the whole-video errors).
+# CONDITIONS ("exact sam2like"; "video" adds the whole-video errors),
+# TRAIN_OPTS (op2gs-train's options, e.g. "--recipe fast").
 set -euo pipefail
 build="$(cd "$1" && pwd)"
 capture="$(cd "$2" && pwd)"
@@ -71,9 +72,9 @@ step() {
 # Sets `maps` (the ID map folder) and `errors` (op2gs-mask-errors' options)
 # of a condition.
 condition_maps() {
+  # shellcheck disable=SC2206
   case "$1" in
     exact) maps=object_mask errors=() ;;
-    # shellcheck disable=SC2206
     sam2like) maps=object_mask_sam2like errors=(${MASK_ERRORS:-}) ;;
     # Fixed before it was measured: the per-view errors at their defaults,
     # each lasting three views, every object's mask systematically tight or
@@ -159,8 +160,9 @@ one="$work/stage-one"
 if [ ! -f "$one/metrics.json" ]; then
   echo "== $name: stage one, $stage_one of $iterations iterations"
   rm -rf "$one"
+  # shellcheck disable=SC2086
   step train "$bin/op2gs-train" "$scene" "$one" --resolution "$resolution" --split lerf \
-    --iterations "$stage_one" --schedule "$iterations"
+    --iterations "$stage_one" --schedule "$iterations" ${TRAIN_OPTS:-}
 fi
 
 # ------------------------------------------------ 4. conditions and variants
