@@ -11,7 +11,9 @@
 #       Run it again after an interruption and it continues: finished stages
 #       are skipped, the others resume from their latest checkpoint (every
 #       1,000 iterations). RESTART=1 starts over.
-#   bench/studies/full_schedule.sh summary DIR
+#       RECIPE=fast runs the fast recipe instead (op2gs-train --recipe fast,
+#       op2gs-learn --sparse-adam) into DIR/full-fast, beside the paper's.
+#   bench/studies/full_schedule.sh summary DIR   (RECIPE=fast: DIR/full-fast)
 #       What the full run has done so far (it may be unfinished): time per
 #       stage summed over its sessions, Gaussians, peak memory, test PSNR.
 #   bench/studies/full_schedule.sh sampled BUILD DIR [THREADS]
@@ -61,6 +63,16 @@ make_scene() {  # DIR BUILD
     --height "${HEIGHT:-728}" > /dev/null
   touch "$1/scene/.complete"
 }
+
+# The full run's training recipe (RECIPE: paper or fast) and its folder.
+recipe="${RECIPE:-paper}"
+learn_recipe=()
+case "$recipe" in
+  paper) ;;
+  fast) learn_recipe=(--sparse-adam) ;;
+  *) echo "bench/studies/full_schedule.sh: RECIPE=$recipe: paper or fast" >&2; exit 2 ;;
+esac
+full_run_folder() { if [ "$recipe" = paper ]; then echo full; else echo "full-$recipe"; fi; }
 
 # Seconds per iteration over a run's log after iteration FROM + 1 (whose
 # time carries the loading, or the warm-up).
@@ -136,7 +148,7 @@ case "$mode" in
     build="$1" dir="$2"
     mkdir -p "$dir"
     make_scene "$dir" "$build"
-    full="$dir/full"
+    full="$dir/$(full_run_folder)"
     [ "${RESTART:-0}" = 1 ] && rm -rf "$full"
     mkdir -p "$full"
     bin="$build/stages"
@@ -154,19 +166,20 @@ case "$mode" in
       resume=()
       [ -f "$full/checkpoints/latest.ckpt" ] && resume=(--resume)
       timed "stage one" "$bin/op2gs-train" "$dir/scene" "$full" "${resume[@]}" \
-        --keep-checkpoint-at "${stage_one_points[@]}" 20000 --iterations 20000
+        --keep-checkpoint-at "${stage_one_points[@]}" 20000 --iterations 20000 \
+        --recipe "$recipe"
     fi
     [ -f "$full/vote/point_cloud.ply" ] || timed "voting" "$bin/op2gs-vote" "$dir/scene" "$full"
     if [ ! -f "$full/learn/metrics.json" ]; then
       resume=()
       [ -f "$full/learn/checkpoints/latest.ckpt" ] && resume=(--resume)
       timed "stage two" "$bin/op2gs-learn" "$dir/scene" "$full" "${resume[@]}" \
-        --keep-checkpoint-at 25000 --iterations 30000
+        --keep-checkpoint-at 25000 --iterations 30000 "${learn_recipe[@]}"
     fi
     python3 "$here/full_schedule_summary.py" "$full" | tee "$full/summary.txt"
     ;;
   summary)
-    python3 "$here/full_schedule_summary.py" "$1/full"
+    python3 "$here/full_schedule_summary.py" "$1/$(full_run_folder)"
     ;;
   sampled)
     build="$1" dir="$2" threads="${3:-0}"
