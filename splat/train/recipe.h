@@ -1,16 +1,14 @@
 #pragma once
 // The training recipes op2gs-train offers. The paper's is the reference
 // 3DGS recipe (docs/gaussian-splatting.md) and the default. The fast one
-// trades nothing the paper fixes (the loss, the learning rates, the
-// densification rule) for time:
+// keeps its loss, learning rates and densification rule, and saves time in
+// how they are applied (docs/benchmarks.md, "The fast recipe"):
 //   - sparse Adam: only the Gaussians in view step (TrainOptions::sparse_adam);
 //   - a resolution schedule: the training views at a quarter of their width
 //     and height at iteration 0, at full resolution from half the
 //     densification window on (or half the schedule, if shorter), so the
 //     Gaussians that densification adds late are fitted to full-resolution
 //     photos (resolution_schedule.h).
-
-#include <string>
 
 #include "splat/train/trainer.h"
 
