@@ -72,10 +72,14 @@ ImageRGB resize_area(const ImageRGB& image, int width, int height) {
   return out;
 }
 
+std::pair<int, int> downscaled_size(int width, int height, double downscale) {
+  auto scaled = [&](int n) { return std::max(1, int(std::lround(n / downscale))); };
+  return {scaled(width), scaled(height)};
+}
+
 ImageRGB downscale_area(const ImageRGB& image, int factor) {
   if (factor <= 1) return image;
-  const int w = std::max(1, int(std::lround(double(image.width) / factor)));
-  const int h = std::max(1, int(std::lround(double(image.height) / factor)));
+  const auto [w, h] = downscaled_size(image.width, image.height, factor);
   return resize_area(image, w, h);
 }
 

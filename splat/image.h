@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <utility>
 #include <vector>
 
 namespace splat {
@@ -50,6 +51,10 @@ ImageRGB read_image_rgb(const std::filesystem::path& file);
 // Writes RGB atomically. The extension picks the format: .png and .jpg are
 // written as 8 bit, .exr as half float, .tif as 16 bit.
 void write_image_rgb(const std::filesystem::path& file, const ImageRGB& image);
+
+// The size of a width x height image downscaled by `downscale`: rounded, at
+// least one pixel each way (the reference 3DGS loader's rule).
+std::pair<int, int> downscaled_size(int width, int height, double downscale);
 
 // Downscales by an integer factor with an area (box) filter: OpenCV's
 // INTER_AREA to round(W / factor) x round(H / factor), as the reference 3DGS

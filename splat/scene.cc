@@ -9,6 +9,7 @@
 
 #include "splat/colmap_model.h"
 #include "splat/error.h"
+#include "splat/image.h"
 #include "splat/packed_image.h"
 #include "splat/pose_file.h"
 
@@ -30,8 +31,7 @@ std::pair<int, int> target_size(int width, int height, const SceneOptions& o) {
     const double s = double(o.max_width) / width;
     return {o.max_width, std::max(1, int(std::lround(height * s)))};
   }
-  return {std::max(1, int(std::lround(double(width) / o.downscale))),
-          std::max(1, int(std::lround(double(height) / o.downscale)))};
+  return downscaled_size(width, height, o.downscale);
 }
 
 }  // namespace
@@ -86,9 +86,10 @@ std::unique_ptr<Scene> Scene::load(const fs::path& root, const SceneOptions& opt
   std::sort(scene->views_.begin(), scene->views_.end(),
             [](const View& a, const View& b) { return a.name < b.name; });
   if (capped > 0)
-    spdlog::info("{} of {} views are wider than {} px (up to {}): scaled down to that width, as "
-                 "the 3DGS reference scales large photos (--max-width 0 keeps them)",
-                 capped, scene->views_.size(), options.max_width, widest);
+    spdlog::info(
+        "{} of {} views are wider than {} px (up to {}): scaled down to that width, as "
+        "the 3DGS reference scales large photos (--max-width 0 keeps them)",
+        capped, scene->views_.size(), options.max_width, widest);
 
   for (const auto& [id, p] : model.points3d) {
     scene->points_.push_back(p.xyz);

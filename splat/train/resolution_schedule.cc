@@ -19,9 +19,4 @@ double training_downscale(const ResolutionScheduleOptions& options, int iteratio
   return std::exp((1 - t) * std::log(options.start_downscale));
 }
 
-std::pair<int, int> downscaled_size(int width, int height, double downscale) {
-  auto scaled = [&](int n) { return std::max(1, int(std::lround(n / downscale))); };
-  return {scaled(width), scaled(height)};
-}
-
 }  // namespace splat

@@ -6,8 +6,6 @@
 // `start_downscale` at iteration 0 to 1 at `full_from`, and stays 1 after.
 // Test views are always rendered at full resolution.
 
-#include <utility>
-
 namespace splat {
 
 struct ResolutionScheduleOptions {
@@ -21,9 +19,5 @@ struct ResolutionScheduleOptions {
 // The factor by which the training render of `iteration` is smaller than the
 // view in each dimension (>= 1; not an integer in general).
 double training_downscale(const ResolutionScheduleOptions& options, int iteration);
-
-// The size of a width x height view downscaled by `downscale`: rounded, at
-// least one pixel each way.
-std::pair<int, int> downscaled_size(int width, int height, double downscale);
 
 }  // namespace splat

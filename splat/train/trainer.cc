@@ -11,6 +11,7 @@
 #include "splat/dataset_layout.h"
 #include "splat/error.h"
 #include "splat/id_maps.h"
+#include "splat/image.h"
 #include "splat/image_quality.h"
 #include "splat/train/initialize.h"
 

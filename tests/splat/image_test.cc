@@ -64,6 +64,13 @@ TEST(Image, GreyIsReplicatedAndAlphaDropped) {
   EXPECT_EQ(read_image_rgb(dir / "rgba.png").data, (std::vector<float>{0, 1, 0}));
 }
 
+TEST(Image, DownscaledSizesAreRoundedAndNeverEmpty) {
+  EXPECT_EQ(downscaled_size(986, 728, 1.0), std::make_pair(986, 728));
+  EXPECT_EQ(downscaled_size(986, 728, 4.0), std::make_pair(247, 182));  // 246.5 rounds up
+  EXPECT_EQ(downscaled_size(640, 360, 2.0), std::make_pair(320, 180));
+  EXPECT_EQ(downscaled_size(3, 2, 8.0), std::make_pair(1, 1));
+}
+
 TEST(Image, PngJpegExrWriteAndReadBack) {
   TempDir dir;
   const ImageRGB im = gradient(32, 24);

@@ -34,13 +34,6 @@ TEST(ResolutionSchedule, FallsLogLinearlyToFullResolution) {
   }
 }
 
-TEST(ResolutionSchedule, SizesAreRoundedAndNeverEmpty) {
-  EXPECT_EQ(downscaled_size(986, 728, 1.0), std::make_pair(986, 728));
-  EXPECT_EQ(downscaled_size(986, 728, 4.0), std::make_pair(247, 182));  // 246.5 rounds up
-  EXPECT_EQ(downscaled_size(640, 360, 2.0), std::make_pair(320, 180));
-  EXPECT_EQ(downscaled_size(3, 2, 8.0), std::make_pair(1, 1));
-}
-
 TEST(ResolutionSchedule, RejectsAStartBelowOne) {
   EXPECT_THROW((ResolutionScheduleOptions{0.5, 100}.Check()), std::invalid_argument);
   EXPECT_THROW((ResolutionScheduleOptions{2.0, -1}.Check()), std::invalid_argument);
