@@ -184,11 +184,7 @@ struct VertexLayout {
 
 VertexLayout layout_of(const PlyElement& v, const fs::path& file) {
   std::map<std::string, int> index;
-  for (size_t i = 0; i < v.properties.size(); ++i) {
-    if (v.properties[i].is_list)
-      throw InputError(file, fmt::format("vertex property '{}' is a list", v.properties[i].name));
-    index[v.properties[i].name] = int(i);
-  }
+  for (size_t i = 0; i < v.properties.size(); ++i) index[v.properties[i].name] = int(i);
   auto need = [&](const std::string& name) {
     auto it = index.find(name);
     if (it == index.end())
@@ -232,13 +228,34 @@ void store_row(const std::vector<double>& row, const VertexLayout& l, size_t i, 
   if (l.label >= 0) m.labels[i] = int32_t(row[l.label]);
 }
 
+// The bytes from the read position to the end of the file.
+uint64_t bytes_left(std::istream& in) {
+  const auto here = in.tellg();
+  in.seekg(0, std::ios::end);
+  const auto left = uint64_t(in.tellg() - here);
+  in.seekg(here);
+  return left;
+}
+
 void skip_binary_element(std::istream& in, const PlyElement& e, const fs::path& file) {
   if (e.has_list())
     throw InputError(file, fmt::format("element '{}' before 'vertex' has list properties "
                                        "(unsupported)",
                                        e.name));
-  in.seekg(std::streamoff(e.count * e.stride()), std::ios::cur);
-  if (!in) throw InputError(file, fmt::format("truncated in element '{}'", e.name));
+  // A count past the bytes that follow is a lie, and its product may overflow.
+  const size_t stride = e.stride();
+  if (stride > 0 && bytes_left(in) / stride < e.count)
+    throw InputError(file, fmt::format("truncated in element '{}'", e.name));
+  in.seekg(std::streamoff(e.count * stride), std::ios::cur);
+}
+
+// ASCII rows of an element before the vertex element, one line each.
+void skip_ascii_element(std::istream& in, const PlyElement& e, const fs::path& file) {
+  for (uint64_t i = 0; i < e.count; ++i) {
+    if (in.peek() == std::char_traits<char>::eof())
+      throw InputError(file, fmt::format("truncated in element '{}'", e.name));
+    in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
 }
 
 // Each decoded row of a vertex element, with its index.
@@ -308,19 +325,17 @@ void read_vertices(const fs::path& file,
       if (h.binary)
         skip_binary_element(in, e, file);
       else
-        for (uint64_t i = 0; i < e.count; ++i)
-          in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+        skip_ascii_element(in, e, file);
       continue;
     }
     if (e.properties.empty()) throw InputError(file, "the vertex element has no properties");
-    if (e.count > 0 && !e.has_list()) {  // (lists are refused with the layout)
+    for (const PlyProperty& p : e.properties)
+      if (p.is_list) throw InputError(file, fmt::format("vertex property '{}' is a list", p.name));
+    if (e.count > 0) {
       // Reject a lying vertex count before allocating for it: a binary row
       // takes its stride, an ASCII row at least a character and a separator
       // per property.
-      const auto here = in.tellg();
-      in.seekg(0, std::ios::end);
-      const auto available = uint64_t(in.tellg() - here);
-      in.seekg(here);
+      const uint64_t available = bytes_left(in);
       const size_t row = h.binary ? e.stride() : 2 * e.properties.size();
       if (available / row < e.count)
         throw InputError(file, fmt::format("file is truncated: header says {} vertices of {} "

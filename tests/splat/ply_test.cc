@@ -202,6 +202,17 @@ TEST(Ply, MalformedFilesAreRejected) {
            "end_header\n0 0 0 0 0 0 0 0 0 0 1 0 0 0\n",
        "truncated"},
       {"novertex.ply", "ply\nformat ascii 1.0\nelement face 0\nend_header\n", "no 'vertex'"},
+      // Counts that lie about the rows before the vertex element: refused at
+      // the end of the file, not skipped one empty row at a time.
+      {"asciiface.ply",
+       "ply\nformat ascii 1.0\nelement face 99999999999999\nproperty int a\nelement vertex 1\n" +
+           good_props + "end_header\n0\n",
+       "truncated in element 'face'"},
+      {"binaryface.ply",
+       "ply\nformat binary_little_endian 1.0\nelement face 4611686018427387904\n"
+       "property int a\nelement vertex 1\n" +
+           good_props + "end_header\n0123",
+       "truncated in element 'face'"},
   };
   for (const auto& [name, text, why] : cases) {
     write_file(dir / name, text);
@@ -209,6 +220,22 @@ TEST(Ply, MalformedFilesAreRejected) {
     expect_ply_rejected(dir / name, why);
   }
   expect_ply_rejected(dir / "does_not_exist.ply", "cannot open");
+}
+
+// A point cloud with a list among its vertex properties cannot be read row by
+// row; its vertex count must not be allocated before that is found out.
+TEST(Ply, PointCloudWithAVertexListIsRejectedBeforeAllocating) {
+  TempDir dir;
+  write_file(dir / "p.ply",
+             "ply\nformat binary_little_endian 1.0\nelement vertex 2305843009213693951\n"
+             "property float x\nproperty float y\nproperty float z\n"
+             "property list uchar int idx\nend_header\n");
+  try {
+    read_point_ply(dir / "p.ply");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'idx' is a list"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Ply, FailedWriteLeavesNoFile) {
