@@ -10,6 +10,7 @@
 #include "splat/atomic_file.h"
 #include "splat/clip/safetensors.h"
 #include "splat/error.h"
+#include "splat/json_integer.h"
 
 namespace splat {
 namespace fs = std::filesystem;
@@ -100,7 +101,7 @@ int heads_of(const fs::path& config, const std::string& tower, int64_t width) {
       for (const std::string& key : {tower + "_config", tower + "_config_dict"})
         if (c.contains(key) && c[key].is_object() && c[key].contains("num_attention_heads") &&
             c[key]["num_attention_heads"].is_number_integer())
-          return c[key]["num_attention_heads"].get<int>();
+          return json_integer<int>(c[key]["num_attention_heads"], config, "num_attention_heads");
     } catch (const nlohmann::json::exception& e) {
       throw InputError(config, std::string("malformed JSON: ") + e.what());
     }

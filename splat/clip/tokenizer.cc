@@ -13,6 +13,7 @@
 
 #include "splat/atomic_file.h"
 #include "splat/error.h"
+#include "splat/json_integer.h"
 
 namespace splat {
 namespace fs = std::filesystem;
@@ -165,7 +166,8 @@ ClipTokenizer::ClipTokenizer(const fs::path& vocab_json, const fs::path& merges_
     : vocab_file_(vocab_json), byte_symbols_(byte_symbols()) {
   try {
     const auto vocab = nlohmann::json::parse(read_text_file(vocab_json));
-    for (const auto& [token, id] : vocab.items()) vocab_.emplace(token, id.get<int32_t>());
+    for (const auto& [token, id] : vocab.items())
+      vocab_.emplace(token, json_integer<int32_t>(id, vocab_json, token.c_str()));
   } catch (const nlohmann::json::exception& e) {
     throw InputError(vocab_json, std::string("not a CLIP vocabulary: ") + e.what());
   }

@@ -19,7 +19,8 @@ std::map<int, std::string> read_object_names(const fs::path& file) {
     std::ifstream in(file);
     const json j = json::parse(in);
     if (j.is_array())
-      for (const auto& o : j) names[o.at("id").get<int>()] = o.at("name").get<std::string>();
+      for (const auto& o : j)
+        names[json_integer<int>(o.at("id"), file, "id")] = o.at("name").get<std::string>();
     else if (j.is_object())
       for (const auto& [k, v] : j.items()) names[std::stoi(k)] = v.get<std::string>();
   } catch (const std::exception& e) {

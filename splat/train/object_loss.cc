@@ -12,6 +12,7 @@
 #include "splat/atomic_file.h"
 #include "splat/error.h"
 #include "splat/id_maps.h"
+#include "splat/json_integer.h"
 #include "splat/npy.h"
 
 namespace splat {
@@ -23,10 +24,12 @@ void read_id_corrections(const std::filesystem::path& file, ObjectLossOptions& o
     if (j.contains("joined_ids"))
       for (const auto& g : j.at("joined_ids"))
         for (const auto& id : g.at("joined"))
-          o.id_remap[id.get<int32_t>()] = g.at("kept").get<int32_t>();
+          o.id_remap[json_integer<int32_t>(id, file, "joined")] =
+              json_integer<int32_t>(g.at("kept"), file, "kept");
     if (j.contains("merged_segments"))
       for (const auto& m : j.at("merged_segments"))
-        o.ignored_ids[m.at("view").get<std::string>()].push_back(m.at("id").get<int32_t>());
+        o.ignored_ids[m.at("view").get<std::string>()].push_back(
+            json_integer<int32_t>(m.at("id"), file, "id"));
   } catch (const std::exception& e) {
     throw InputError(file, std::string("not op2gs-vote's summary: ") + e.what());
   }

@@ -201,6 +201,19 @@ TEST(Ply, MalformedFilesAreRejected) {
        "ply\nformat ascii 1.0\nelement vertex 1\n" + good_props +
            "end_header\n0 0 zero 0 0 0 0 0 0 0 1 0 0 0\n",
        "not a number"},
+      // A float label must be a whole int32: its cast would be undefined.
+      {"biglabel.ply",
+       "ply\nformat ascii 1.0\nelement vertex 1\n" + good_props +
+           "property float label\nend_header\n0 0 0 0 0 0 0 0 0 0 1 0 0 0 1e20\n",
+       "vertex 0: label 1e+20 is not an integer object ID"},
+      {"nanlabel.ply",
+       "ply\nformat ascii 1.0\nelement vertex 1\n" + good_props +
+           "property float label\nend_header\n0 0 0 0 0 0 0 0 0 0 1 0 0 0 nan\n",
+       "is not an integer object ID"},
+      {"halflabel.ply",
+       "ply\nformat ascii 1.0\nelement vertex 1\n" + good_props +
+           "property float label\nend_header\n0 0 0 0 0 0 0 0 0 0 1 0 0 0 2.5\n",
+       "label 2.5 is not"},
       {"short.ply",
        "ply\nformat ascii 1.0\nelement vertex 2\n" + good_props +
            "end_header\n0 0 0 0 0 0 0 0 0 0 1 0 0 0\n",

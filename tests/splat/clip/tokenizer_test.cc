@@ -52,6 +52,15 @@ TEST(ClipTokenizer, MissingOrMalformedFilesNameTheFile) {
   }
   EXPECT_THROW(ClipTokenizer(testing_util::tiny_clip_dir() / "vocab.json", dir / "none.txt"),
                InputError);
+  // A token ID beyond int32 is refused, not converted (undefined behaviour).
+  std::ofstream(dir / "big.json") << "{\"a\": 1e20}";
+  try {
+    ClipTokenizer(dir / "big.json", testing_util::tiny_clip_dir() / "merges.txt");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("\"a\" is 1e+20, not an integer"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(ClipTokenizer, SplitsContractionsLettersDigitsAndSymbols) {
