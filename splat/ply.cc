@@ -213,8 +213,19 @@ VertexLayout layout_of(const PlyElement& v, const fs::path& file) {
   return l;
 }
 
-// Copies one vertex row (values already decoded to doubles) into the model.
-void store_row(const std::vector<double>& row, const VertexLayout& l, size_t i, GaussianModel& m) {
+// A label stored as a float must still be a whole number an int32 holds:
+// anything else is not an object ID (and its conversion would be undefined).
+int32_t label_of(double value, size_t vertex, const fs::path& file) {
+  if (!(value == std::floor(value) && value >= std::numeric_limits<int32_t>::min() &&
+        value <= std::numeric_limits<int32_t>::max()))
+    throw InputError(file,
+                     fmt::format("vertex {}: label {} is not an integer object ID", vertex, value));
+  return int32_t(value);
+}
+
+// Copies vertex i's row (values already decoded to doubles) into the model.
+void store_row(const std::vector<double>& row, const VertexLayout& l, size_t i,
+               const fs::path& file, GaussianModel& m) {
   for (int k = 0; k < 3; ++k) {
     m.means[3 * i + k] = float(row[l.xyz[k]]);
     m.sh_dc[3 * i + k] = float(row[l.dc[k]]);
@@ -226,16 +237,7 @@ void store_row(const std::vector<double>& row, const VertexLayout& l, size_t i, 
     for (int j = 0; j < l.rest_coeffs; ++j)
       m.sh_rest[kShRestFloats * i + 3 * j + c] = float(row[l.rest[c * l.rest_coeffs + j]]);
   if (l.instance_opacity >= 0) m.instance_opacity_logits[i] = float(row[l.instance_opacity]);
-}
-
-// A label stored as a float must still be a whole number an int32 holds:
-// anything else is not an object ID (and its conversion would be undefined).
-int32_t label_of(double value, size_t vertex, const fs::path& file) {
-  if (!(value == std::floor(value) && value >= std::numeric_limits<int32_t>::min() &&
-        value <= std::numeric_limits<int32_t>::max()))
-    throw InputError(file,
-                     fmt::format("vertex {}: label {} is not an integer object ID", vertex, value));
-  return int32_t(value);
+  if (l.label >= 0) m.labels[i] = label_of(row[l.label], i, file);
 }
 
 // The bytes from the read position to the end of the file.
@@ -375,8 +377,7 @@ GaussianModel read_gaussian_ply(const fs::path& file) {
     return [&, l](const std::vector<double>& row, size_t i) {
       if (!std::all_of(row.begin(), row.end(), [](double v) { return std::isfinite(v); }))
         first_bad = bad++ ? first_bad : i;
-      store_row(row, l, i, m);
-      if (l.label >= 0) m.labels[i] = label_of(row[l.label], i, file);
+      store_row(row, l, i, file, m);
     };
   });
   // A broken model must not be voted on or rendered as if nothing were wrong.
