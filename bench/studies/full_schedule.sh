@@ -13,6 +13,14 @@
 #       1,000 iterations). RESTART=1 starts over.
 #       RECIPE=fast runs the fast recipe instead (op2gs-train --recipe fast,
 #       op2gs-learn --sparse-adam) into DIR/full-fast, beside the paper's.
+#       Then renders the test views' masks and scores them (oracle mode of the
+#       LERF-Mask protocol, DIR/full/masks.json).
+#   bench/studies/full_schedule.sh variant BUILD DIR NAME [op2gs-learn options]
+#       Stage two again from the full run's stage one (its 20,000 checkpoint
+#       and its vote) with other op2gs-learn options, e.g.
+#       "variant build DIR robust --recipe robust", into DIR/variant-NAME,
+#       resumable like full; its masks scored as full's (masks.json). UNTIL
+#       (30000) ends it earlier, e.g. 23000 for a quicker comparison.
 #   bench/studies/full_schedule.sh summary DIR   (RECIPE=fast: DIR/full-fast)
 #       What the full run has done so far (it may be unfinished): time per
 #       stage summed over its sessions, Gaussians, peak memory, test PSNR.
@@ -36,7 +44,7 @@
 # cache warm does not; one epoch, the training views' count, times the warm
 # cache), VIEWS, WIDTH, HEIGHT (the scene, 300 986 728).
 set -euo pipefail
-mode="${1:?usage: bench/studies/full_schedule.sh full|summary|sampled|paired|threads|profile ...}"
+mode="${1:?usage: bench/studies/full_schedule.sh full|variant|summary|sampled|paired|threads|profile ...}"
 shift
 here="$(cd "$(dirname "$0")" && pwd)"
 sample="${SAMPLE:-300}"
@@ -62,6 +70,24 @@ make_scene() {  # DIR BUILD
   "$2/stages/op2gs-synth" "$1/scene" --views "${VIEWS:-300}" --width "${WIDTH:-986}" \
     --height "${HEIGHT:-728}" > /dev/null
   touch "$1/scene/.complete"
+}
+
+# Renders the test views' masks of a finished stage two and scores them
+# (oracle mode, LERF-Mask protocol): WORK/render/, WORK/masks.json.
+score_masks() {  # BUILD DIR WORK
+  "$1/stages/op2gs-render" "$2/scene" "$3" > "$3/render.log" 2>&1 ||
+    { tail -3 "$3/render.log" >&2; return 1; }
+  "$1/stages/op2gs-eval" "$2/scene" --protocol lerf --pred dual-opacity="$3/render/masks" \
+    --pred baseline="$3/render/baseline_labels" --out "$3/masks.json" > "$3/eval.log" 2>&1 ||
+    { tail -3 "$3/eval.log" >&2; return 1; }
+  python3 - "$3/masks.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))["results"]
+for name in ("dual-opacity", "baseline"):
+    m = r[name]
+    print(f'{name}: mIoU {100 * m["miou"]:.1f}, mBIoU {100 * m["mbiou"]:.1f}; ' + "; ".join(
+        f'{q["query"]} {100 * q["miou"]:.1f} / {100 * q["mbiou"]:.1f}' for q in m["queries"]))
+PY
 }
 
 # The full run's training recipe (RECIPE: paper or fast) and its folder.
@@ -176,7 +202,31 @@ case "$mode" in
       timed "stage two" "$bin/op2gs-learn" "$dir/scene" "$full" "${resume[@]}" \
         --keep-checkpoint-at 25000 --iterations 30000 "${learn_recipe[@]}"
     fi
+    [ -f "$full/masks.json" ] || score_masks "$build" "$dir" "$full" > "$full/masks.txt"
     python3 "$here/full_schedule_summary.py" "$full" | tee "$full/summary.txt"
+    cat "$full/masks.txt"
+    ;;
+  variant)
+    build="$1" dir="$2" name="$3"
+    shift 3
+    full="$dir/full" work="$dir/variant-$name"
+    for f in checkpoints/iteration_20000.ckpt vote/point_cloud.ply; do
+      [ -f "$full/$f" ] || { echo "bench/studies/full_schedule.sh: $full/$f: missing (run full first)" >&2; exit 1; }
+    done
+    [ "${RESTART:-0}" = 1 ] && rm -rf "$work"
+    mkdir -p "$work"
+    echo "session: $(date -u +%FT%TZ) commit $(git -C "$here" rev-parse --short HEAD): $*" >> "$work/segments.log"
+    if [ ! -f "$work/learn/metrics.json" ]; then
+      resume=()
+      [ -f "$work/learn/checkpoints/latest.ckpt" ] && resume=(--resume)
+      /usr/bin/time -a -o "$work/segments.log" -f "stage two: %e s, peak %M KiB" \
+        "$build/stages/op2gs-learn" "$dir/scene" "$work" "${resume[@]}" \
+        --checkpoint "$full/checkpoints/iteration_20000.ckpt" --labels "$full/vote/point_cloud.ply" \
+        --iterations "${UNTIL:-30000}" "$@" 2>&1 | tr '\r' '\n' | grep -v '^\[[#-]'
+      [ -f "$work/learn/metrics.json" ] || { echo "bench/studies/full_schedule.sh: stage two failed" >&2; exit 1; }
+    fi
+    [ -f "$work/masks.json" ] || score_masks "$build" "$dir" "$work" > "$work/masks.txt"
+    cat "$work/masks.txt"
     ;;
   summary)
     python3 "$here/full_schedule_summary.py" "$1/$(full_run_folder)"
@@ -227,7 +277,7 @@ case "$mode" in
     time_from "$1" "$2" "$3" 0
     ;;
   *)
-    echo "bench/studies/full_schedule.sh: unknown mode '$mode' (full, summary, sampled, paired, threads or profile)" >&2
+    echo "bench/studies/full_schedule.sh: unknown mode '$mode' (full, variant, summary, sampled, paired, threads or profile)" >&2
     exit 2
     ;;
 esac

@@ -35,7 +35,10 @@
 # op2gs-mask-errors), VARIANTS ("paper": op2gs-learn's options per variant,
 # name=options with commas for spaces, e.g. "paper protect=--protect-agreement,0.9"),
 # CONDITIONS ("exact sam2like"; "video" adds the whole-video errors),
-# TRAIN_OPTS (op2gs-train's options, e.g. "--recipe fast").
+# TRAIN_OPTS (op2gs-train's options, e.g. "--recipe fast"), VOTE_OPTS
+# (op2gs-vote's options for every variant, e.g. the track remedies
+# "--join-switched-ids --find-merges"; name the variants for them, since a
+# variant's run folder is <condition>-<name>).
 set -euo pipefail
 build="$(cd "$1" && pwd)"
 capture="$(cd "$2" && pwd)"
@@ -47,6 +50,7 @@ resolution="${RESOLUTION:-2}"
 seed="${SEED:-1}"
 variants="${VARIANTS:-paper}"
 conditions="${CONDITIONS:-exact sam2like}"
+read -r -a vote_options <<< "${VOTE_OPTS:-}"
 name="$(basename "$capture")"
 data="$out/data/$name"
 work="$out/work/$name"
@@ -173,11 +177,12 @@ for condition in $conditions; do
     options=()
     [[ "$variant" == *=* ]] && IFS=, read -r -a options <<< "${variant#*=}"
     run="$work/$condition-$label"
-    echo "== $name: $condition masks, $label ${options[*]:-}"
+    echo "== $name: $condition masks, $label ${options[*]:-} ${vote_options[*]:-}"
     rm -rf "$run"
     cp -r "$one" "$run"
     common=(--resolution "$resolution" --split lerf --id-maps "$maps")
-    step "$condition-$label-vote" "$bin/op2gs-vote" "$scene" "$run" "${common[@]}"
+    step "$condition-$label-vote" "$bin/op2gs-vote" "$scene" "$run" "${common[@]}" \
+      "${vote_options[@]}"
     step "$condition-$label-learn" "$bin/op2gs-learn" "$scene" "$run" "${common[@]}" \
       --iterations "$iterations" --schedule "$iterations" "${options[@]}"
     step "$condition-$label-render" "$bin/op2gs-render" "$scene" "$run" --resolution "$resolution" \
@@ -186,11 +191,13 @@ for condition in $conditions; do
       --pred dual-opacity="$run/render/masks" --pred baseline="$run/render/baseline_labels" \
       --out "$run/metrics.json"
     rm -rf "$run/checkpoints"
-    python3 - "$name" "$condition" "$label" "${options[*]:-}" "$run" >> "$out/results.jsonl" <<'PY'
+    python3 - "$name" "$condition" "$label" "${options[*]:-}" "${vote_options[*]:-}" "$run" \
+      >> "$out/results.jsonl" <<'PY'
 import json, sys
-name, condition, variant, options, run = sys.argv[1:]
+name, condition, variant, options, vote_options, run = sys.argv[1:]
 m = json.load(open(f"{run}/metrics.json"))["results"]
-line = {"capture": name, "condition": condition, "variant": variant, "options": options}
+line = {"capture": name, "condition": condition, "variant": variant, "options": options,
+        "vote_options": vote_options}
 for k in ("dual-opacity", "baseline"):
     line[k] = {"miou": round(100 * m[k]["miou"], 2), "mbiou": round(100 * m[k]["mbiou"], 2),
                "objects": {q["query"]: [round(100 * q["miou"], 2), round(100 * q["mbiou"], 2)]
