@@ -55,6 +55,11 @@ int main(int argc, char** argv) {
                  "sigma*: the object loss may raise it, not lower it, so masks that miss part "
                  "of an object in some views punch no holes (0: off, the paper)")
       ->capture_default_str();
+  bool sigma_star_only = false;
+  app.add_flag("--sigma-star-only", sigma_star_only,
+               "the object loss trains sigma* only, not the Gaussians' position and shape (the "
+               "paper trains both): a mask that is loose or tight in every view cannot reshape "
+               "the object, the photos alone shape it");
   std::string recipe = "paper";
   app.add_option("--recipe", recipe,
                  "paper: the object loss is the binary cross-entropy of the paper; robust: the "
@@ -74,6 +79,7 @@ int main(int argc, char** argv) {
         "--recipe", recipe,
         {{"paper", splat::PixelLoss::Kind::kCrossEntropy},
          {"robust", splat::PixelLoss::Kind::kGeneralized}});
+    o.train.object_loss.reshapes_geometry = !sigma_star_only;
     o.train.densify_until = 0;  // no densification (nor opacity reset) in stage two
     const splat::WorkLayout w{work};
     o.start_checkpoint = stages::or_default(checkpoint, w.stage_one().latest_checkpoint());

@@ -68,8 +68,15 @@ struct ObjectLossOptions {
   // 0: off, every sigma* follows the loss (the paper).
   float protected_agreement = 0.f;
   std::filesystem::path label_agreement;  // the .npy; required when protecting
-  PixelLoss pixel_loss;                   // the paper's cross-entropy by default
-  void Check() const;                     // throws std::invalid_argument
+  // The paper's object loss reaches sigma* and the Gaussians' position and
+  // shape. false: sigma* alone, the photos alone shape the Gaussians. Why: a
+  // segmenter's mask that is loose or tight on an object in every view is
+  // not outvoted by anything, and through the geometry the loss reshapes the
+  // object's border Gaussians to it, which the photos resist little where
+  // the object is transparent. Not the default (docs/benchmarks.md).
+  bool reshapes_geometry = true;
+  PixelLoss pixel_loss;  // the paper's cross-entropy by default
+  void Check() const;    // throws std::invalid_argument
 };
 
 // Per Gaussian: 1 if its label agreement in `file` (float array of shape

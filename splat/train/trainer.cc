@@ -246,6 +246,8 @@ Trainer::Step Trainer::start_step(IterationStats& st) {
       for (int32_t id : st.objects) step.settings.instance_labels.push_back(id + split_offset_);
       step.backward.maps_without_geometry_gradient = int(st.objects.size());
     }
+    if (!o.object_loss.reshapes_geometry)
+      step.backward.maps_without_geometry_gradient = int(step.settings.instance_labels.size());
   }
   return step;
 }
