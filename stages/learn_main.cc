@@ -57,9 +57,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   bool sigma_star_only = false;
   app.add_flag("--sigma-star-only", sigma_star_only,
-               "the object loss trains sigma* only, not the Gaussians' position and shape (the "
-               "paper trains both): a mask that is loose or tight in every view cannot reshape "
-               "the object, the photos alone shape it");
+               "ablation: the object loss trains sigma* only, not the Gaussians' position and "
+               "shape (the paper trains both; docs/benchmarks.md measures what that path is "
+               "worth)");
   std::string recipe = "paper";
   app.add_option("--recipe", recipe,
                  "paper: the object loss is the binary cross-entropy of the paper; robust: the "

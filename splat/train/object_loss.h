@@ -69,11 +69,11 @@ struct ObjectLossOptions {
   float protected_agreement = 0.f;
   std::filesystem::path label_agreement;  // the .npy; required when protecting
   // The paper's object loss reaches sigma* and the Gaussians' position and
-  // shape. false: sigma* alone, the photos alone shape the Gaussians. Why: a
-  // segmenter's mask that is loose or tight on an object in every view is
-  // not outvoted by anything, and through the geometry the loss reshapes the
-  // object's border Gaussians to it, which the photos resist little where
-  // the object is transparent. Not the default (docs/benchmarks.md).
+  // shape. false: sigma* alone, the photos alone shape the Gaussians (the
+  // ablation of that gradient path). It was tried against masks loose or
+  // tight on an object in every view, which the geometry path follows; it
+  // costs about 2 points with exact and SAM2-like masks on a real capture,
+  // so it stays off (docs/benchmarks.md, "Real captures").
   bool reshapes_geometry = true;
   PixelLoss pixel_loss;  // the paper's cross-entropy by default
   void Check() const;    // throws std::invalid_argument
