@@ -90,6 +90,16 @@ for name in ("dual-opacity", "baseline"):
 PY
 }
 
+# Runs a stage and appends one line to $segments: its wall time and peak
+# memory (a stage that was interrupted and resumed has several). Shows its
+# log without the progress bar.
+timed() {  # NAME COMMAND...
+  local name="$1"
+  shift
+  /usr/bin/time -a -o "$segments" -f "$name: %e s, peak %M KiB" "$@" 2>&1 |
+    tr '\r' '\n' | grep -v '^\[[#-]'
+}
+
 # The full run's training recipe (RECIPE: paper or fast) and its folder.
 recipe="${RECIPE:-paper}"
 learn_recipe=()
@@ -179,14 +189,6 @@ case "$mode" in
     mkdir -p "$full"
     bin="$build/stages"
     segments="$full/segments.log"
-    # One line per stage run: its wall time and peak memory (a stage that
-    # was interrupted and resumed has several).
-    timed() {  # NAME COMMAND...
-      local name="$1"
-      shift
-      /usr/bin/time -a -o "$segments" -f "$name: %e s, peak %M KiB" "$@" 2>&1 |
-        tr '\r' '\n' | grep -v '^\[[#-]'
-    }
     echo "session: $(date -u +%FT%TZ) commit $(git -C "$here" rev-parse --short HEAD)" >> "$segments"
     if [ ! -f "$full/metrics.json" ]; then
       resume=()
@@ -215,14 +217,14 @@ case "$mode" in
     done
     [ "${RESTART:-0}" = 1 ] && rm -rf "$work"
     mkdir -p "$work"
-    echo "session: $(date -u +%FT%TZ) commit $(git -C "$here" rev-parse --short HEAD): $*" >> "$work/segments.log"
+    segments="$work/segments.log"
+    echo "session: $(date -u +%FT%TZ) commit $(git -C "$here" rev-parse --short HEAD): $*" >> "$segments"
     if [ ! -f "$work/learn/metrics.json" ]; then
       resume=()
       [ -f "$work/learn/checkpoints/latest.ckpt" ] && resume=(--resume)
-      /usr/bin/time -a -o "$work/segments.log" -f "stage two: %e s, peak %M KiB" \
-        "$build/stages/op2gs-learn" "$dir/scene" "$work" "${resume[@]}" \
+      timed "stage two" "$build/stages/op2gs-learn" "$dir/scene" "$work" "${resume[@]}" \
         --checkpoint "$full/checkpoints/iteration_20000.ckpt" --labels "$full/vote/point_cloud.ply" \
-        --iterations "${UNTIL:-30000}" "$@" 2>&1 | tr '\r' '\n' | grep -v '^\[[#-]'
+        --iterations "${UNTIL:-30000}" "$@"
       [ -f "$work/learn/metrics.json" ] || { echo "bench/studies/full_schedule.sh: stage two failed" >&2; exit 1; }
     fi
     [ -f "$work/masks.json" ] || score_masks "$build" "$dir" "$work" > "$work/masks.txt"
