@@ -20,6 +20,18 @@ Camera Camera::resized(int new_width, int new_height) const {
   c.cx *= sx;
   c.fy *= sy;
   c.cy *= sy;
+  if (uncropped_width) c.uncropped_width = int(std::lround(uncropped_width * sx));
+  if (uncropped_height) c.uncropped_height = int(std::lround(uncropped_height * sy));
+  return c;
+}
+
+Camera Camera::cropped(int x, int y, int new_width, int new_height) const {
+  Camera c = *this;
+  if (!c.uncropped_width) c.uncropped_width = width, c.uncropped_height = height;
+  c.width = new_width;
+  c.height = new_height;
+  c.cx -= x;
+  c.cy -= y;
   return c;
 }
 

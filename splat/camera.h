@@ -31,11 +31,24 @@ struct Camera {
   // World-space direction (unit) of the ray through pixel coordinates (u, v).
   Eigen::Vector3d pixel_ray(double u, double v) const;
 
-  double tan_half_fov_x() const { return 0.5 * width / fx; }
-  double tan_half_fov_y() const { return 0.5 * height / fy; }
+  // A camera cut from a larger view (cropped()) keeps that view's size here;
+  // 0 for a whole view. The field of view, and with it the projection's
+  // Jacobian clamp, stays the view's, so a crop renders each of its pixels
+  // as the whole view does.
+  int uncropped_width = 0, uncropped_height = 0;
+
+  // Of the whole view (for a crop, of the view it was cut from).
+  double tan_half_fov_x() const { return 0.5 * (uncropped_width ? uncropped_width : width) / fx; }
+  double tan_half_fov_y() const {
+    return 0.5 * (uncropped_height ? uncropped_height : height) / fy;
+  }
 
   // The same camera for an image resized to new_width x new_height.
   Camera resized(int new_width, int new_height) const;
+  // The same camera for the width x height rectangle of its image whose
+  // top-left pixel is (x, y): the principal point moves, and the field of
+  // view stays the whole view's (uncropped_width, uncropped_height).
+  Camera cropped(int x, int y, int new_width, int new_height) const;
 
   // A camera at `eye` looking at `target` with world `up` (y up by default).
   static Camera look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,

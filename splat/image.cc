@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 #include "splat/atomic_file.h"
 #include "splat/error.h"
@@ -69,6 +70,39 @@ ImageRGB resize_area(const ImageRGB& image, int width, int height) {
   ImageRGB out(width, height);
   cv::Mat dst(height, width, CV_32FC3, out.data.data());
   cv::resize(as_mat(image), dst, cv::Size(width, height), 0, 0, cv::INTER_AREA);
+  return out;
+}
+
+namespace {
+
+// Copies the rows of `rect` out of `src` (`channels` values a pixel) into
+// `dst`, sized for the rectangle.
+template <typename T>
+void copy_rect(const std::vector<T>& src, int width, int height, int channels, const PixelRect& r,
+               std::vector<T>& dst) {
+  if (r.x < 0 || r.y < 0 || r.width < 1 || r.height < 1 || r.x + r.width > width ||
+      r.y + r.height > height)
+    throw std::invalid_argument(
+        fmt::format("crop: the rectangle {}x{} at ({}, {}) is not inside "
+                    "the {}x{} image",
+                    r.width, r.height, r.x, r.y, width, height));
+  const size_t row = size_t(r.width) * channels;
+  for (int y = 0; y < r.height; ++y)
+    std::copy_n(src.begin() + (size_t(r.y + y) * width + r.x) * channels, row,
+                dst.begin() + size_t(y) * row);
+}
+
+}  // namespace
+
+ImageRGB crop(const ImageRGB& image, const PixelRect& rect) {
+  ImageRGB out(std::max(rect.width, 0), std::max(rect.height, 0));
+  copy_rect(image.data, image.width, image.height, 3, rect, out.data);
+  return out;
+}
+
+IdMap crop(const IdMap& map, const PixelRect& rect) {
+  IdMap out(std::max(rect.width, 0), std::max(rect.height, 0));
+  copy_rect(map.ids, map.width, map.height, 1, rect, out.ids);
   return out;
 }
 

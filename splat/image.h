@@ -64,6 +64,15 @@ ImageRGB downscale_area(const ImageRGB& image, int factor);
 // size is off by rounding, and for a maximum-width resolution option).
 ImageRGB resize_area(const ImageRGB& image, int width, int height);
 
+// A rectangle of pixels: columns [x, x + width), rows [y, y + height).
+struct PixelRect {
+  int x = 0, y = 0, width = 0, height = 0;
+};
+// The pixels of `rect`, which must lie inside the image (else
+// std::invalid_argument).
+ImageRGB crop(const ImageRGB& image, const PixelRect& rect);
+IdMap crop(const IdMap& map, const PixelRect& rect);
+
 // A binary mask as an 8-bit PNG with values 0 and 255 (the format of the
 // benchmarks' ground-truth masks).
 void write_mask_png(const std::filesystem::path& file, int width, int height,

@@ -13,9 +13,9 @@ int main(int argc, char** argv) {
   app.add_flag("--resume", o.resume, "continue from <work>/checkpoints/latest.ckpt");
   std::string recipe = "paper";
   app.add_option("--recipe", recipe,
-                 "paper: the reference 3DGS recipe; fast: sparse Adam and a resolution schedule "
+                 "paper: the reference 3DGS recipe; fast: sparse Adam, a resolution schedule "
                  "(the views at a quarter size at first, full size from half the densification "
-                 "window on; docs/stages.md)")
+                 "window on) and, from there on, half views (docs/stages.md)")
       ->capture_default_str();
   app.add_option("--densify-from", o.train.densify_from, "first densification iteration")
       ->capture_default_str();

@@ -48,6 +48,10 @@ class TrainingCli {
     app.add_flag("--sparse-adam", o.train.sparse_adam,
                  "Adam steps only the Gaussians in view (theirs out of view keep values and "
                  "moments, as gsplat's selective Adam); off in the paper's recipe");
+    app.add_option("--half-views-from", o.train.half_views.from_iteration,
+                   "from this iteration on, each iteration trains on one half of its view, the "
+                   "halves alternating by epoch (0: never, the paper's recipe)")
+        ->capture_default_str();
     app.add_option("--cache-mb", cache_mb_, "decoded images kept in memory, MiB")
         ->capture_default_str();
   }

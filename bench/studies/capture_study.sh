@@ -21,7 +21,7 @@
 # fit (op2gs-render --fit-poses: the test views' cameras fitted to their
 # photos), poses (and op2gs-train --refine-poses), poses+tracks,
 # exposure+poses+tracks. The fast recipe: fast (op2gs-train --recipe fast,
-# op2gs-learn --sparse-adam). Any variant followed by +protect-<share> (or
+# op2gs-learn --sparse-adam --half-views-from 1). Any variant followed by +protect-<share> (or
 # protect-<share> alone, for plain) also protects the sigma* of Gaussians whose
 # votes agree at least that much (op2gs-learn --protect-agreement).
 # At the end, op2gs-report writes <out>/report/ (report.html, report.md) with
@@ -82,7 +82,7 @@ for condition in "$@"; do
         robust) learn_options=(--recipe robust) ;;
         fast)
           train_options=(--recipe fast)
-          learn_options=(--sparse-adam)
+          learn_options=(--sparse-adam --half-views-from 1)
           ;;
         lambda-*) learn_options=(--lambda-o "${variant#lambda-}") ;;
         m-*) learn_options=(--objects-per-step "${variant#m-}") ;;

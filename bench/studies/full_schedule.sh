@@ -12,7 +12,7 @@
 #       are skipped, the others resume from their latest checkpoint (every
 #       1,000 iterations). RESTART=1 starts over.
 #       RECIPE=fast runs the fast recipe instead (op2gs-train --recipe fast,
-#       op2gs-learn --sparse-adam) into DIR/full-fast, beside the paper's.
+#       op2gs-learn --sparse-adam --half-views-from 1) into DIR/full-fast, beside the paper's.
 #       Then renders the test views' masks and scores them (oracle mode of the
 #       LERF-Mask protocol, DIR/full/masks.json).
 #   bench/studies/full_schedule.sh variant BUILD DIR NAME [op2gs-learn options]
@@ -105,7 +105,7 @@ recipe="${RECIPE:-paper}"
 learn_recipe=()
 case "$recipe" in
   paper) ;;
-  fast) learn_recipe=(--sparse-adam) ;;
+  fast) learn_recipe=(--sparse-adam --half-views-from 1) ;;
   *) echo "bench/studies/full_schedule.sh: RECIPE=$recipe: paper or fast" >&2; exit 2 ;;
 esac
 full_run_folder() { if [ "$recipe" = paper ]; then echo full; else echo "full-$recipe"; fi; }

@@ -37,13 +37,15 @@ void DensificationStats::reset(size_t n) {
   max_radius.assign(n, 0.f);
 }
 
-void DensificationStats::add(const GaussianGradients& g, const std::vector<int32_t>& radii) {
+void DensificationStats::add(const GaussianGradients& g, const std::vector<int32_t>& radii,
+                             std::array<float, 2> ndc_scale) {
   // Every iteration until densification ends, over every Gaussian: in
   // parallel, so that it does not become the serial part on many cores.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, count.size(), 16384), [&](const auto& r) {
     for (size_t i = r.begin(); i < r.end(); ++i) {
       if (!g.visible[i]) continue;
-      grad_accum[i] += std::hypot(g.mean2d_ndc[2 * i], g.mean2d_ndc[2 * i + 1]);
+      grad_accum[i] +=
+          std::hypot(ndc_scale[0] * g.mean2d_ndc[2 * i], ndc_scale[1] * g.mean2d_ndc[2 * i + 1]);
       count[i] += 1.f;
       max_radius[i] = std::max(max_radius[i], float(radii[i]));
     }

@@ -2,6 +2,7 @@
 // Adaptive density control of the reference 3DGS recipe
 // (docs/gaussian-splatting.md, "Densification").
 
+#include <array>
 #include <cstdint>
 #include <iosfwd>
 #include <random>
@@ -36,7 +37,11 @@ struct DensificationStats {
 
   void reset(size_t n);
   // Adds one iteration's statistics (gradients and radii of that render).
-  void add(const GaussianGradients& grads, const std::vector<int32_t>& radii);
+  // ndc_scale takes the render's normalised device units to its view's,
+  // where the render is part of the view (a half view: the view's width
+  // over the half's); the threshold is set for whole views.
+  void add(const GaussianGradients& grads, const std::vector<int32_t>& radii,
+           std::array<float, 2> ndc_scale = {1, 1});
   void save(std::ostream& out) const;
   void load(std::istream& in);
   bool operator==(const DensificationStats&) const = default;

@@ -10,6 +10,7 @@ void apply_recipe(TrainRecipe recipe, TrainOptions& options) {
   options.resolution_schedule.start_downscale = 4;
   options.resolution_schedule.full_from =
       std::min(options.densify_until, options.total_iterations) / 2;
+  options.half_views.from_iteration = options.resolution_schedule.full_from;
 }
 
 }  // namespace splat

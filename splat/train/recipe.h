@@ -8,7 +8,10 @@
 //     and height at iteration 0, at full resolution from half the
 //     densification window on (or half the schedule, if shorter), so the
 //     Gaussians that densification adds late are fitted to full-resolution
-//     photos (resolution_schedule.h).
+//     photos (resolution_schedule.h);
+//   - half views: from full resolution on, each iteration trains on one
+//     half of its view (half_views.h), so the late phase, where the model
+//     has all its Gaussians, costs about half as much an iteration.
 
 #include "splat/train/trainer.h"
 

@@ -186,6 +186,8 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
   if (o.train.sparse_adam) m["sparse_adam"] = true;
   if (const ResolutionScheduleOptions& r = o.train.resolution_schedule; r.enabled())
     m["resolution_schedule"] = {{"start_downscale", r.start_downscale}, {"full_from", r.full_from}};
+  if (o.train.half_views.from_iteration > 0)
+    m["half_views_from"] = o.train.half_views.from_iteration;
   write_text_atomically(out.metrics(), m.dump(2) + "\n");
   plot_training_curve(out.log(), out.curve());
 

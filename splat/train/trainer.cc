@@ -43,6 +43,7 @@ void TrainOptions::Check() const {
   poses.Check();
   test_pose_fit.Check();
   resolution_schedule.Check();
+  half_views.Check();
   if (instance_opacity_init >= 1 || (instance_opacity_init >= 0 && instance_opacity_init <= 0))
     fail("the initial instance opacity must be in (0, 1), or negative for sigma's");
   if (densify_every < 1 || opacity_reset_every < 1) fail("densification intervals must be >= 1");
@@ -201,7 +202,7 @@ void Trainer::train_until(int until,
     const Step step = start_step(st);
     forward_and_loss(step, st);
     backward(step, st);
-    optimiser_step(step, st, densify_or_reset(st));
+    optimiser_step(step, st, densify_or_reset(step, st));
     st.gaussians = model_.size();
     if (on_iteration) on_iteration(st);
   }
@@ -229,6 +230,7 @@ Trainer::Step Trainer::start_step(IterationStats& st) {
     downscaled_target_ = resize_area(target_, w, h);
     step.target = &downscaled_target_;
   }
+  if (o.half_views.applies(it)) use_half_view(step, st);
   step.settings = render_settings();
   // Adam reads grads_.visible and steps the culled Gaussians with zero
   // gradients without reading them.
@@ -236,6 +238,11 @@ Trainer::Step Trainer::start_step(IterationStats& st) {
   step.backward.camera_gradient = refines_poses() && it >= o.poses.from_iteration;
   step.objects = learns_instances() ? &object_map(step.view) : nullptr;
   if (step.objects) {
+    step.ids = &step.objects->ids;
+    if (st.half_view) {
+      half_ids_ = crop(step.objects->ids, half_);
+      step.ids = &half_ids_;
+    }
     st.objects = sample_objects(step.objects->objects, o.object_loss.objects_per_step, rng_);
     step.settings.instance_labels = st.objects;
     if (protects()) {
@@ -265,12 +272,12 @@ void Trainer::forward_and_loss(const Step& step, IterationStats& st) {
   }
   st.loss = image_loss(shown, *step.target, o.loss, &out_grads_.color, &loss_buffers_);
   if (step.objects && protects())
-    st.object_loss = split_object_loss(render_out_.instance_maps, st.objects, step.objects->ids,
-                                       o.object_loss.weight, &out_grads_.instance_maps,
-                                       o.object_loss.pixel_loss);
+    st.object_loss =
+        split_object_loss(render_out_.instance_maps, st.objects, *step.ids, o.object_loss.weight,
+                          &out_grads_.instance_maps, o.object_loss.pixel_loss);
   else if (step.objects)
     st.object_loss =
-        object_loss(render_out_.instance_maps, render_out_.instance_map_labels, step.objects->ids,
+        object_loss(render_out_.instance_maps, render_out_.instance_map_labels, *step.ids,
                     o.object_loss.weight, &out_grads_.instance_maps, o.object_loss.pixel_loss);
   else
     out_grads_.instance_maps.clear();
@@ -280,6 +287,23 @@ void Trainer::forward_and_loss(const Step& step, IterationStats& st) {
                     "nothing was saved after the last checkpoint",
                     st.iteration, scene_->views()[step.view].name));
   st.psnr = 10 * std::log10(1.0 / std::max(st.loss.mse, 1e-20));  // as psnr() computes it
+  if (step.loss_weight != 1) {
+    for (float& g : out_grads_.color) g *= float(step.loss_weight);
+    for (float& g : out_grads_.instance_maps) g *= float(step.loss_weight);
+  }
+}
+
+// The step trains on one half of its view: the camera, the photo and, in
+// stage two, the ID map cut to it, and the loss weighted by its share.
+void Trainer::use_half_view(Step& step, IterationStats& st) {
+  const Camera c = step.camera;
+  half_ = training_half(c.width, c.height, step.view, st.iteration, split_.train.size());
+  step.loss_weight = half_share(half_, c.width, c.height);
+  step.ndc_scale = {float(c.width) / half_.width, float(c.height) / half_.height};
+  step.camera = c.cropped(half_.x, half_.y, half_.width, half_.height);
+  half_target_ = crop(*step.target, half_);
+  step.target = &half_target_;
+  st.half_view = true;
 }
 
 // The exposure transform's step, the renderer's backward pass into the
@@ -299,12 +323,12 @@ void Trainer::backward(const Step& step, const IterationStats& st) {
     poses_.step(step.view, grads_.camera, pose_learning_rate(it));
 }
 
-std::array<bool, kParamGroups> Trainer::densify_or_reset(IterationStats& st) {
+std::array<bool, kParamGroups> Trainer::densify_or_reset(const Step& step, IterationStats& st) {
   const TrainOptions& o = options_;
   const int it = st.iteration;
   std::array<bool, kParamGroups> skip{};
   if (it >= o.densify_until) return skip;
-  stats_.add(grads_, render_out_.radii);
+  stats_.add(grads_, render_out_.radii, step.ndc_scale);
   if (it > o.densify_from && it % o.densify_every == 0) {
     st.densified = densify_and_prune(model_, adam_, stats_, extent_, it > o.opacity_reset_every,
                                      rng_, o.densify);

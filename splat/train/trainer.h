@@ -29,6 +29,7 @@
 #include "splat/train/adam.h"
 #include "splat/train/densify.h"
 #include "splat/train/exposure.h"
+#include "splat/train/half_views.h"
 #include "splat/train/image_loss.h"
 #include "splat/train/object_loss.h"
 #include "splat/train/resolution_schedule.h"
@@ -86,6 +87,9 @@ struct TrainOptions {
   // coarse (resolution_schedule.h); off in the reference recipe. Stage two
   // always trains at full resolution, as its ID maps are.
   ResolutionScheduleOptions resolution_schedule;
+  // Late in the schedule, each iteration trains on one half of its view
+  // (half_views.h); off in the reference recipe.
+  HalfViewOptions half_views;
 
   int densify_from = 500;
   int densify_until = 15000;
@@ -114,6 +118,7 @@ struct IterationStats {
   float lr_position = 0;
   int sh_degree = 0;
   double downscale = 1;          // of this iteration's render (the resolution schedule)
+  bool half_view = false;        // the render is one half of the view (half_views.h)
   double object_loss = 0;        // L_obj before its weight (stage two)
   std::vector<int32_t> objects;  // the objects sampled for it
   DensifyResult densified;       // what densification did this iteration, if anything
@@ -205,15 +210,19 @@ class Trainer {
     Camera camera;
     RenderSettings settings;
     BackwardSettings backward;
-    const ObjectMap* objects = nullptr;  // the view's objects when stage two learns sigma*
-    const ImageRGB* target = nullptr;    // the photo at the render's size
+    const ObjectMap* objects = nullptr;       // the view's objects when stage two learns sigma*
+    const IdMap* ids = nullptr;               // its ID map at the render's size
+    const ImageRGB* target = nullptr;         // the photo at the render's size
+    double loss_weight = 1;                   // the render's share of the view (half_views.h)
+    std::array<float, 2> ndc_scale = {1, 1};  // DensificationStats::add's, for a half view
   };
   Step start_step(IterationStats& st);
+  void use_half_view(Step& step, IterationStats& st);
   void forward_and_loss(const Step& step, IterationStats& st);
   void backward(const Step& step, const IterationStats& st);
   // Densification and opacity resets; which parameter arrays Adam must not
   // step (they were replaced or reset).
-  std::array<bool, kParamGroups> densify_or_reset(IterationStats& st);
+  std::array<bool, kParamGroups> densify_or_reset(const Step& step, IterationStats& st);
   void optimiser_step(const Step& step, const IterationStats& st,
                       const std::array<bool, kParamGroups>& skip);
 
@@ -244,6 +253,9 @@ class Trainer {
   RenderOutput render_out_;
   ImageRGB target_;             // the training view's photo, reused
   ImageRGB downscaled_target_;  // the photo at the resolution schedule's size
+  ImageRGB half_target_;        // the half of the photo a half view trains on
+  IdMap half_ids_;              // and of its ID map
+  PixelRect half_;              // the half, in the view's pixels
   RenderOutputGradients out_grads_;
   GaussianGradients grads_;
   ImageLossBuffers loss_buffers_;

@@ -83,7 +83,7 @@ mk DATASET=3dovs DATA_ROOT="$tmp/fx/3dovs" WORK_ROOT="$tmp/ovs" -n bed.eval |
 mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" RECIPE=fast \
   -n figurines.learn > "$tmp/fast.log"
 grep -q -- "op2gs-train.*--recipe fast" "$tmp/fast.log" || { cat "$tmp/fast.log"; fail "RECIPE=fast: op2gs-train"; }
-grep -q -- "op2gs-learn.*--sparse-adam" "$tmp/fast.log" || fail "RECIPE=fast: op2gs-learn"
+grep -q -- "op2gs-learn.*--sparse-adam --half-views-from 1" "$tmp/fast.log" || fail "RECIPE=fast: op2gs-learn"
 mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" -n figurines.learn |
   grep -- "op2gs-train.*--recipe paper" > /dev/null || fail "the paper's recipe is not the default"
 # Without the CLIP files a run still evaluates oracle mode, saying why query

@@ -26,6 +26,28 @@ TEST(Camera, PixelRayInvertsProjection) {
   EXPECT_NEAR(back.y(), 30.5, 1e-9);
 }
 
+TEST(Camera, ACroppedCameraProjectsToTheSamePixelsLessTheOffset) {
+  const Camera c = Camera::look_at({0, 1, -4}, {0, 0, 0}, Eigen::Vector3d::UnitY(), 64, 48, 50, 55);
+  const Camera half = c.cropped(32, 0, 32, 48);
+  EXPECT_EQ(half.width, 32);
+  EXPECT_EQ(half.height, 48);
+  for (const Eigen::Vector3d& x : {Eigen::Vector3d(0.3, 0.1, 0.2), Eigen::Vector3d(-0.4, 0, 1)}) {
+    EXPECT_NEAR((half.project(x) - (c.project(x) - Eigen::Vector2d(32, 0))).norm(), 0.0, 1e-12);
+    EXPECT_NEAR(
+        (c.cropped(5, 7, 10, 10).project(x) - (c.project(x) - Eigen::Vector2d(5, 7))).norm(), 0.0,
+        1e-12);
+  }
+  EXPECT_EQ(half.fx, c.fx);
+  EXPECT_EQ(half.fy, c.fy);
+  EXPECT_TRUE(half.R == c.R && half.t == c.t);
+  // The field of view, which clamps the projection, stays the whole view's,
+  // also when a crop is cropped again or resized with its view.
+  EXPECT_EQ(half.tan_half_fov_x(), c.tan_half_fov_x());
+  EXPECT_EQ(half.tan_half_fov_y(), c.tan_half_fov_y());
+  EXPECT_EQ(half.cropped(0, 0, 16, 48).tan_half_fov_x(), c.tan_half_fov_x());
+  EXPECT_DOUBLE_EQ(c.resized(32, 24).cropped(16, 0, 16, 24).tan_half_fov_x(), c.tan_half_fov_x());
+}
+
 TEST(Camera, QuaternionRoundTripKeepsQwNonNegative) {
   std::mt19937 rng(3);
   std::normal_distribution<double> n;

@@ -7,6 +7,7 @@
 #endif
 
 #include <cmath>
+#include <stdexcept>
 
 #include "splat/error.h"
 #include "splat/id_maps.h"
@@ -101,6 +102,28 @@ TEST(Image, DownscaleAreaAveragesBlocks) {
   ASSERT_EQ(half.height, 1);
   EXPECT_FLOAT_EQ(half.pixel(0, 0)[0], (0 + 1 + 4 + 5) / 4.f);
   EXPECT_FLOAT_EQ(half.pixel(1, 0)[0], (2 + 3 + 6 + 7) / 4.f);
+}
+
+TEST(Image, CropCopiesTheRectangleAndRejectsOneOutside) {
+  const ImageRGB im = gradient(7, 5);
+  const ImageRGB c = crop(im, {3, 1, 4, 3});
+  ASSERT_EQ(c.width, 4);
+  ASSERT_EQ(c.height, 3);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 4; ++x)
+      for (int k = 0; k < 3; ++k)
+        EXPECT_EQ(c.pixel(x, y)[k], im.pixel(x + 3, y + 1)[k]) << x << "," << y;
+  IdMap ids(7, 5);
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 7; ++x) ids.at(x, y) = uint16_t(10 * y + x);
+  const IdMap ci = crop(ids, {0, 2, 7, 3});
+  ASSERT_EQ(ci.width, 7);
+  ASSERT_EQ(ci.height, 3);
+  EXPECT_EQ(ci.at(0, 0), 20);
+  EXPECT_EQ(ci.at(6, 2), 46);
+  EXPECT_THROW(crop(im, {4, 0, 4, 5}), std::invalid_argument);
+  EXPECT_THROW(crop(im, {-1, 0, 2, 2}), std::invalid_argument);
+  EXPECT_THROW(crop(ids, {0, 0, 0, 5}), std::invalid_argument);
 }
 
 TEST(Image, DownscaleRoundsOddSizes) {

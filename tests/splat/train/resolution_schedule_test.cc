@@ -45,12 +45,14 @@ TEST(Recipe, PaperChangesNothingAndFastFollowsTheSchedule) {
   apply_recipe(TrainRecipe::kPaper, paper);
   EXPECT_FALSE(paper.sparse_adam);
   EXPECT_FALSE(paper.resolution_schedule.enabled());
+  EXPECT_FALSE(paper.half_views.applies(30000));
 
   TrainOptions fast;  // the paper's 30,000 iterations, densification until 15,000
   apply_recipe(TrainRecipe::kFast, fast);
   EXPECT_TRUE(fast.sparse_adam);
   EXPECT_EQ(fast.resolution_schedule.start_downscale, 4.0);
   EXPECT_EQ(fast.resolution_schedule.full_from, 7500);
+  EXPECT_EQ(fast.half_views.from_iteration, 7500);  // half views from full resolution on
 
   TrainOptions short_run;  // a schedule shorter than the densification window
   short_run.total_iterations = 7000;

@@ -3,6 +3,7 @@
 #include "splat/train/trainer.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 
@@ -111,6 +112,37 @@ TEST(Trainer, AResolutionScheduleEndsAtFullResolutionAndTrains) {
   EXPECT_GT(after, before + 5.0) << "before " << before << " dB, after " << after << " dB";
 }
 
+// The fast recipe's half views: from their first iteration on every step
+// trains on a half, the model still learns the scene, and a run resumed
+// among them is the uninterrupted run (the half follows from the iteration
+// and the view, not from state outside the checkpoint).
+TEST(Trainer, HalfViewsTrainAndResumeExactly) {
+  TempDir dir;
+  TrainOptions o = quick_options();
+  o.half_views.from_iteration = 200;
+  Trainer straight(tiny_scene(), o);
+  straight.initialize_from_sfm();
+  const double before = mean_test_psnr(straight);
+  std::vector<bool> half;
+  straight.train_until(400, [&](const IterationStats& s) { half.push_back(s.half_view); });
+  EXPECT_FALSE(half[0]);
+  EXPECT_FALSE(half[198]);  // iteration 199
+  EXPECT_TRUE(half[199]);   // iteration 200
+  EXPECT_TRUE(half[399]);
+  const double after = mean_test_psnr(straight);
+  EXPECT_GT(after, before + 5.0) << "before " << before << " dB, after " << after << " dB";
+
+  Trainer first(tiny_scene(), o);
+  first.initialize_from_sfm();
+  first.train_until(310);
+  first.save_checkpoint(dir / "ckpt");
+  Trainer resumed(tiny_scene(), o);
+  resumed.load_checkpoint(dir / "ckpt");
+  resumed.train_until(400);
+  EXPECT_TRUE(resumed.model() == straight.model())
+      << "resumed run differs from the uninterrupted one";
+}
+
 TEST(Trainer, ResumeGivesTheSameParametersAsAnUninterruptedRun) {
   TempDir dir;
   Trainer straight(tiny_scene(), quick_options());
@@ -204,6 +236,20 @@ TEST(Trainer, SameSeedSameModel) {
   a.train_until(120);
   b.train_until(120);
   EXPECT_TRUE(a.model() == b.model());
+}
+
+// Training does not depend on the thread count (docs/renderer.md,
+// "Determinism"): one thread and all of them give the same model bit for
+// bit, through densification.
+TEST(Trainer, OneThreadAndAllThreadsTrainTheSameModel) {
+  Trainer all(tiny_scene(), quick_options());
+  all.initialize_from_sfm();
+  all.train_until(260);
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  Trainer single(tiny_scene(), quick_options());
+  single.initialize_from_sfm();
+  single.train_until(260);
+  EXPECT_TRUE(single.model() == all.model()) << "one thread trains another model";
 }
 
 TEST(Trainer, NonFiniteLossStopsAndIsNeverCheckpointed) {
