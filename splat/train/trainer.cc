@@ -271,14 +271,17 @@ void Trainer::forward_and_loss(const Step& step, IterationStats& st) {
     shown = exposed_;
   }
   st.loss = image_loss(shown, *step.target, o.loss, &out_grads_.color, &loss_buffers_);
+  if (step.loss_weight != 1)
+    for (float& g : out_grads_.color) g *= float(step.loss_weight);
+  const float object_weight = o.object_loss.weight * float(step.loss_weight);
   if (step.objects && protects())
     st.object_loss =
-        split_object_loss(render_out_.instance_maps, st.objects, *step.ids, o.object_loss.weight,
+        split_object_loss(render_out_.instance_maps, st.objects, *step.ids, object_weight,
                           &out_grads_.instance_maps, o.object_loss.pixel_loss);
   else if (step.objects)
     st.object_loss =
         object_loss(render_out_.instance_maps, render_out_.instance_map_labels, *step.ids,
-                    o.object_loss.weight, &out_grads_.instance_maps, o.object_loss.pixel_loss);
+                    object_weight, &out_grads_.instance_maps, o.object_loss.pixel_loss);
   else
     out_grads_.instance_maps.clear();
   if (!std::isfinite(st.loss.total) || !std::isfinite(st.object_loss))
@@ -287,10 +290,6 @@ void Trainer::forward_and_loss(const Step& step, IterationStats& st) {
                     "nothing was saved after the last checkpoint",
                     st.iteration, scene_->views()[step.view].name));
   st.psnr = 10 * std::log10(1.0 / std::max(st.loss.mse, 1e-20));  // as psnr() computes it
-  if (step.loss_weight != 1) {
-    for (float& g : out_grads_.color) g *= float(step.loss_weight);
-    for (float& g : out_grads_.instance_maps) g *= float(step.loss_weight);
-  }
 }
 
 // The step trains on one half of its view: the camera, the photo and, in
