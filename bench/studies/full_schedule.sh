@@ -31,6 +31,11 @@
 #   bench/studies/full_schedule.sh paired  OLD_BUILD NEW_BUILD DIR [THREADS]
 #       The same with two builds alternated at every checkpoint (old, new,
 #       new, old), so the VM's speed drift cancels in the ratio.
+#   bench/studies/full_schedule.sh options BUILD DIR "OPTIONS_A" "OPTIONS_B"
+#       The same with one build and two sets of training options alternated
+#       (A, B, B, A), given to both stages, e.g. "" "--sparse-adam
+#       --half-views-from 1": what the fast recipe's options save at the
+#       paper's model sizes.
 #   bench/studies/full_schedule.sh threads BUILD DIR
 #       Thread scaling: 1 and 2 threads alternated at every checkpoint.
 #   bench/studies/full_schedule.sh profile BUILD DIR ITERATION
@@ -44,7 +49,7 @@
 # cache warm does not; one epoch, the training views' count, times the warm
 # cache), VIEWS, WIDTH, HEIGHT (the scene, 300 986 728).
 set -euo pipefail
-mode="${1:?usage: bench/studies/full_schedule.sh full|variant|summary|sampled|paired|threads|profile ...}"
+mode="${1:?usage: bench/studies/full_schedule.sh full|variant|summary|sampled|paired|options|threads|profile ...}"
 shift
 here="$(cd "$(dirname "$0")" && pwd)"
 sample="${SAMPLE:-300}"
@@ -130,14 +135,15 @@ resume_from() {  # TMP FULL SUBDIR STAGE
   mkdir -p "$1/$3checkpoints"
   ln -s "$kept" "$1/$3checkpoints/latest.ckpt"
   run "$1" "$bin/$4" "$dir/scene" "$1" --resume --iterations "$stop" \
-    --checkpoint-every 1000000 --threads "$threads" $no_test || exit 1
+    --checkpoint-every 1000000 --threads "$threads" $no_test "${extra[@]}" || exit 1
 }
 
 # Times SAMPLE iterations from iteration K (after WARMUP untimed ones) with
-# BUILD; prints seconds per iteration, or nothing when K's checkpoint is
-# missing.
+# BUILD and the training options in $options (none if unset); prints seconds
+# per iteration, or nothing when K's checkpoint is missing.
 time_from() {  # BUILD DIR K THREADS
-  local bin="$1/stages" dir="$2" k="$3" threads="$4" tmp log
+  local bin="$1/stages" dir="$2" k="$3" threads="$4" tmp log extra
+  read -r -a extra <<< "${options:-}"
   local stop=$((k + warmup + sample))
   local full="$dir/full"
   tmp="$(mktemp -d "$dir/sample.XXXXXX")"
@@ -147,7 +153,7 @@ time_from() {  # BUILD DIR K THREADS
   "$bin/op2gs-train" --help | grep -q -- --no-final-test && no_test=--no-final-test
   if [ "$k" -eq 0 ]; then
     run "$tmp" "$bin/op2gs-train" "$dir/scene" "$tmp" --iterations "$stop" --threads "$threads" \
-      $no_test || exit 1
+      $no_test "${extra[@]}" || exit 1
     log="$tmp/train_log.jsonl"
   elif [ "$k" -lt 20000 ]; then
     resume_from "$tmp" "$full" "" op2gs-train || { rm -rf "$tmp"; return; }
@@ -156,7 +162,7 @@ time_from() {  # BUILD DIR K THREADS
     [ -f "$full/vote/point_cloud.ply" ] || { rm -rf "$tmp"; return; }
     run "$tmp" "$bin/op2gs-learn" "$dir/scene" "$tmp" --checkpoint "$full/checkpoints/iteration_$k.ckpt" \
       --labels "$full/vote/point_cloud.ply" --iterations "$stop" \
-      --checkpoint-every 1000000 --threads "$threads" $no_test || exit 1
+      --checkpoint-every 1000000 --threads "$threads" $no_test "${extra[@]}" || exit 1
     log="$tmp/learn/train_log.jsonl"
   else
     resume_from "$tmp" "$full" learn/ op2gs-learn || { rm -rf "$tmp"; return; }
@@ -253,6 +259,18 @@ case "$mode" in
       echo "$k $a1 $a2 $b1 $b2"
     done | tee >(cat >&2) | python3 "$here/full_schedule_integrate.py" --paired
     ;;
+  options)
+    build="$1" dir="$2" a="$3" b="$4"
+    make_scene "$dir" "$build"
+    for k in "${points[@]}"; do
+      a1="$(options="$a" time_from "$build" "$dir" "$k" 0)"
+      [ -n "$a1" ] || continue
+      b1="$(options="$b" time_from "$build" "$dir" "$k" 0)"
+      b2="$(options="$b" time_from "$build" "$dir" "$k" 0)"
+      a2="$(options="$a" time_from "$build" "$dir" "$k" 0)"
+      echo "$k $a1 $a2 $b1 $b2"
+    done | tee >(cat >&2) | python3 "$here/full_schedule_integrate.py" --paired
+    ;;
   threads)
     build="$1" dir="$2"
     make_scene "$dir" "$build"
@@ -279,7 +297,7 @@ case "$mode" in
     time_from "$1" "$2" "$3" 0
     ;;
   *)
-    echo "bench/studies/full_schedule.sh: unknown mode '$mode' (full, variant, summary, sampled, paired, threads or profile)" >&2
+    echo "bench/studies/full_schedule.sh: unknown mode '$mode' (full, variant, summary, sampled, paired, options, threads or profile)" >&2
     exit 2
     ;;
 esac
