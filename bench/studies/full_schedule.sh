@@ -178,6 +178,21 @@ time_from() {  # BUILD DIR K THREADS
   rm -rf "$tmp"
 }
 
+# Times each sampled point four times, arm A, B, B, A, so that the VM's
+# drift hits both alike, and prints "K a1 a2 b1 b2" lines. An arm is a
+# build, a thread count and training options.
+alternate() {  # DIR A_BUILD A_THREADS A_OPTIONS B_BUILD B_THREADS B_OPTIONS
+  local dir="$1" k a1 a2 b1 b2
+  for k in "${points[@]}"; do
+    a1="$(options="$4" time_from "$2" "$dir" "$k" "$3")"
+    [ -n "$a1" ] || continue
+    b1="$(options="$7" time_from "$5" "$dir" "$k" "$6")"
+    b2="$(options="$7" time_from "$5" "$dir" "$k" "$6")"
+    a2="$(options="$4" time_from "$2" "$dir" "$k" "$3")"
+    echo "$k $a1 $a2 $b1 $b2"
+  done
+}
+
 # Reads "K seconds-per-iteration" lines; prints the schedule's estimated time.
 # (The modes copy the raw lines to stderr with `tee >(cat >&2)`: `tee
 # /dev/stderr` would reopen a log that stderr is redirected to, truncating it.)
@@ -250,38 +265,20 @@ case "$mode" in
   paired)
     old="$1" new="$2" dir="$3" threads="${4:-0}"
     make_scene "$dir" "$new"
-    for k in "${points[@]}"; do
-      a1="$(time_from "$old" "$dir" "$k" "$threads")"
-      [ -n "$a1" ] || continue
-      b1="$(time_from "$new" "$dir" "$k" "$threads")"
-      b2="$(time_from "$new" "$dir" "$k" "$threads")"
-      a2="$(time_from "$old" "$dir" "$k" "$threads")"
-      echo "$k $a1 $a2 $b1 $b2"
-    done | tee >(cat >&2) | python3 "$here/full_schedule_integrate.py" --paired
+    alternate "$dir" "$old" "$threads" "" "$new" "$threads" "" |
+      tee >(cat >&2) | python3 "$here/full_schedule_integrate.py" --paired
     ;;
   options)
     build="$1" dir="$2" a="$3" b="$4"
     make_scene "$dir" "$build"
-    for k in "${points[@]}"; do
-      a1="$(options="$a" time_from "$build" "$dir" "$k" 0)"
-      [ -n "$a1" ] || continue
-      b1="$(options="$b" time_from "$build" "$dir" "$k" 0)"
-      b2="$(options="$b" time_from "$build" "$dir" "$k" 0)"
-      a2="$(options="$a" time_from "$build" "$dir" "$k" 0)"
-      echo "$k $a1 $a2 $b1 $b2"
-    done | tee >(cat >&2) | python3 "$here/full_schedule_integrate.py" --paired
+    alternate "$dir" "$build" 0 "$a" "$build" 0 "$b" |
+      tee >(cat >&2) | python3 "$here/full_schedule_integrate.py" --paired
     ;;
   threads)
     build="$1" dir="$2"
     make_scene "$dir" "$build"
-    for k in "${points[@]}"; do
-      a1="$(time_from "$build" "$dir" "$k" 1)"
-      [ -n "$a1" ] || continue
-      b1="$(time_from "$build" "$dir" "$k" 2)"
-      b2="$(time_from "$build" "$dir" "$k" 2)"
-      a2="$(time_from "$build" "$dir" "$k" 1)"
-      echo "$k $a1 $a2 $b1 $b2"
-    done | tee >(cat >&2) | python3 "$here/full_schedule_integrate.py" --threads
+    alternate "$dir" "$build" 1 "" "$build" 2 "" |
+      tee >(cat >&2) | python3 "$here/full_schedule_integrate.py" --threads
     ;;
   profile)
     build="$1" dir="$2" k="$3"
