@@ -35,7 +35,7 @@
 #       The same with one build and two sets of training options alternated
 #       (A, B, B, A), given to both stages, e.g. "" "--sparse-adam
 #       --half-views-from 1": what the fast recipe's options save at the
-#       paper's model sizes.
+#       paper's model sizes (the output calls A "old" and B "new").
 #   bench/studies/full_schedule.sh threads BUILD DIR
 #       Thread scaling: 1 and 2 threads alternated at every checkpoint.
 #   bench/studies/full_schedule.sh profile BUILD DIR ITERATION
