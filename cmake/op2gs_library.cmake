@@ -15,6 +15,7 @@ function(op2gs_library name)
   add_library(${name} STATIC ${ARG_SOURCES})
   target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
   target_link_libraries(${name} PUBLIC ${ARG_LAYERS} ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})
+  op2gs_precompiled_headers(${name})
 
   # The folders this one may include: its own and every folder below it.
   set(allowed ${ARG_FOLDER})

@@ -1,0 +1,2 @@
+// Empty: the target exists to build the precompiled header
+// (cmake/precompiled_headers.cmake) that the other targets reuse.
