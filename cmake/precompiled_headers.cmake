@@ -1,7 +1,8 @@
-# One precompiled header for the whole build. Every source file includes the
-# standard library's, Eigen's, fmt's and JSON's headers, about 200,000 lines,
-# and parsed them again in each of the build's hundred-odd files: most of a
-# fresh build's time, and so of CI's (docs/benchmarks.md, "CI").
+# One precompiled header for the whole build. Nearly every source file
+# includes the standard library's, Eigen's, fmt's and JSON's headers, about
+# 150,000-250,000 lines, and parsed them again in each of the build's
+# hundred-odd files: a part of a fresh build's time, and so of CI's
+# (docs/benchmarks.md, "CI").
 #
 # The libraries and the tests use it, each file about a second faster (a
 # tenth to a fifth). The stage mains do not: a main at -O1 (stages/) took
