@@ -7,9 +7,11 @@
 # The libraries and the tests use it, each file about a second faster (a
 # tenth to a fifth). The stage mains do not: a main at -O1 (stages/) took
 # 18.7 s with it instead of 11.2, most likely because the header's inline
-# functions keep the -O3 they were parsed with. GCC only: an unusable precompiled header (a file compiled
-# with other flags) makes GCC parse the headers as text, while clang, which
-# builds the fuzz harnesses with sanitizers, stops with an error instead.
+# functions keep the -O3 they were parsed with.
+#
+# GCC only: an unusable precompiled header (a file compiled with other
+# flags) makes GCC parse the headers as text, while clang, which builds the
+# fuzz harnesses with sanitizers, stops with an error instead.
 # -DCMAKE_DISABLE_PRECOMPILE_HEADERS=ON builds without it.
 #
 #   op2gs_precompiled_headers(<target>)   the target's files use it
