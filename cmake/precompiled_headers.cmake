@@ -21,9 +21,7 @@ set(OP2GS_PRECOMPILED_HEADERS
     <optional> <string> <string_view> <unordered_map> <utility> <vector>
     <Eigen/Core> <Eigen/Geometry> <fmt/format.h> <nlohmann/json.hpp> <spdlog/spdlog.h>)
 
-set(OP2GS_PCH OFF)
 if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
-  set(OP2GS_PCH ON)
   # Built once; the others reuse it, so its flags are theirs.
   add_library(op2gs_pch STATIC ${CMAKE_CURRENT_LIST_DIR}/precompiled_headers.cc)
   target_link_libraries(op2gs_pch PUBLIC Eigen3::Eigen TBB::tbb fmt::fmt spdlog::spdlog
@@ -32,7 +30,7 @@ if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
 endif()
 
 function(op2gs_precompiled_headers target)
-  if(OP2GS_PCH)
+  if(TARGET op2gs_pch)
     target_precompile_headers(${target} REUSE_FROM op2gs_pch)
   endif()
 endfunction()
