@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "splat/error.h"
-#include "splat/image_file.h"
+#include "splat/image_codec.h"
 #include "splat/png_indexed.h"
 
 namespace splat {
@@ -100,31 +100,30 @@ IdMap read_id_map(const fs::path& file) {
 }
 
 IntegerImage read_integer_image(const fs::path& file) {
-  auto in = open_image_input(file);
-  const auto& spec = in->spec();
+  ImageFileReader in(file);
+  const ImageFileSpec& spec = in.spec();
   IntegerImage image;
   image.width = spec.width;
   image.height = spec.height;
-  image.channels = spec.nchannels;
+  image.channels = spec.channels;
   // Read in the file's own integer type: converting 8 to 16 bit through
   // OpenImageIO would rescale the values (255 -> 65535).
-  const auto base = OIIO::TypeDesc::BASETYPE(spec.format.basetype);
-  if (base == OIIO::TypeDesc::UINT8) {
-    const auto px = read_pixels<uint8_t>(*in, OIIO::TypeDesc::UINT8, file);
+  if (spec.type == SampleType::uint8) {
+    const auto px = in.read_all<uint8_t>(SampleType::uint8);
     image.samples.assign(px.begin(), px.end());
-  } else if (base == OIIO::TypeDesc::UINT16) {
-    image.samples = read_pixels<uint16_t>(*in, OIIO::TypeDesc::UINT16, file);
+  } else if (spec.type == SampleType::uint16) {
+    image.samples = in.read_all<uint16_t>(SampleType::uint16);
   } else {
-    throw InputError(file, fmt::format("must hold 8- or 16-bit unsigned integers, holds {}",
-                                       spec.format.c_str()));
+    throw InputError(
+        file, fmt::format("must hold 8- or 16-bit unsigned integers, holds {}", spec.type_name));
   }
   return image;
 }
 
 void write_id_map(const fs::path& file, const IdMap& map, int bits) {
   if (bits == 16) {
-    OIIO::ImageSpec spec(map.width, map.height, 1, OIIO::TypeDesc::UINT16);
-    write_image_with_oiio(file, spec, OIIO::TypeDesc::UINT16, map.ids.data());
+    write_image_file(file, {map.width, map.height, 1, SampleType::uint16}, SampleType::uint16,
+                     map.ids.data());
     return;
   }
   if (bits != 8) throw std::invalid_argument("write_id_map: bits must be 8 or 16");
@@ -134,8 +133,7 @@ void write_id_map(const fs::path& file, const IdMap& map, int bits) {
       throw InputError(file, fmt::format("ID {} does not fit in an 8-bit ID map", map.ids[i]));
     px[i] = uint8_t(map.ids[i]);
   }
-  OIIO::ImageSpec spec(map.width, map.height, 1, OIIO::TypeDesc::UINT8);
-  write_image_with_oiio(file, spec, OIIO::TypeDesc::UINT8, px.data());
+  write_image_file(file, {map.width, map.height, 1}, SampleType::uint8, px.data());
 }
 
 }  // namespace splat

@@ -1,6 +1,5 @@
 #include "splat/image.h"
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -9,7 +8,7 @@
 
 #include "splat/atomic_file.h"
 #include "splat/error.h"
-#include "splat/image_file.h"
+#include "splat/image_codec.h"
 
 namespace splat {
 namespace fs = std::filesystem;
@@ -23,27 +22,24 @@ cv::Mat as_mat(const ImageRGB& image) {
 }  // namespace
 
 ImageInfo read_image_info(const fs::path& file) {
-  const auto in = open_image_input(file);
-  const OIIO::ImageSpec& spec = in->spec();
-  return {spec.width, spec.height, spec.nchannels, int(spec.format.size() * 8),
-          spec.get_int_attribute("Orientation", 1)};
+  const ImageFileSpec spec = ImageFileReader(file).spec();
+  return {spec.width, spec.height, spec.channels, spec.bits, spec.orientation};
 }
 
 ImageRGB read_image_rgb(const fs::path& file) {
-  auto in = open_image_input(file);
-  const auto& spec = in->spec();
+  ImageFileReader in(file);
+  const ImageFileSpec& spec = in.spec();
   const auto usable = [](float v) { return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f; };
-  if (spec.nchannels >= 3) {
+  if (spec.channels >= 3) {
     // Decoded straight into the image, alpha left out: no second copy of a
     // view the trainer loads every iteration it misses the cache.
     ImageRGB image(spec.width, spec.height);
-    if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, image.data.data()))
-      throw InputError(file, "cannot decode image: " + in->geterror());
+    in.read(3, SampleType::float32, image.data.data());
     for (float& v : image.data) v = usable(v);
     return image;
   }
-  const std::vector<float> pixels = read_pixels<float>(*in, OIIO::TypeDesc::FLOAT, file);
-  const int nc = spec.nchannels;
+  const std::vector<float> pixels = in.read_all<float>(SampleType::float32);
+  const int nc = spec.channels;
   ImageRGB image(spec.width, spec.height);
   const size_t n = size_t(spec.width) * spec.height;
   for (size_t i = 0; i < n; ++i) {
@@ -58,12 +54,10 @@ ImageRGB read_image_rgb(const fs::path& file) {
 void write_image_rgb(const fs::path& file, const ImageRGB& image) {
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-  OIIO::TypeDesc type = OIIO::TypeDesc::UINT8;
-  if (ext == ".exr") type = OIIO::TypeDesc::HALF;
-  if (ext == ".tif" || ext == ".tiff") type = OIIO::TypeDesc::UINT16;
-  OIIO::ImageSpec spec(image.width, image.height, 3, type);
-  if (ext == ".jpg" || ext == ".jpeg") spec.attribute("Compression", "jpeg:95");
-  write_image_with_oiio(file, spec, OIIO::TypeDesc::FLOAT, image.data.data());
+  ImageFileSpec spec{image.width, image.height, 3};
+  if (ext == ".exr") spec.type = SampleType::half;
+  if (ext == ".tif" || ext == ".tiff") spec.type = SampleType::uint16;
+  write_image_file(file, spec, SampleType::float32, image.data.data());
 }
 
 ImageRGB resize_area(const ImageRGB& image, int width, int height) {
@@ -121,8 +115,7 @@ void write_mask_png(const fs::path& file, int width, int height,
                     const std::vector<uint8_t>& inside) {
   std::vector<uint8_t> px(inside.size());
   for (size_t i = 0; i < px.size(); ++i) px[i] = inside[i] ? 255 : 0;
-  OIIO::ImageSpec spec(width, height, 1, OIIO::TypeDesc::UINT8);
-  write_image_with_oiio(file, spec, OIIO::TypeDesc::UINT8, px.data());
+  write_image_file(file, {width, height, 1}, SampleType::uint8, px.data());
 }
 
 }  // namespace splat

@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "splat/error.h"
-#include "splat/image_file.h"
+#include "splat/image_codec.h"
 
 namespace splat {
 namespace {
@@ -76,13 +76,12 @@ PackedImageRGB PackedImageRGB::from_codes(int width, int height, std::vector<uin
 }
 
 PackedImageRGB read_packed_image_rgb(const std::filesystem::path& file) {
-  auto in = open_image_input(file);
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.format != OIIO::TypeDesc::UINT8 || spec.nchannels < 3)
+  ImageFileReader in(file);
+  const ImageFileSpec& spec = in.spec();
+  if (spec.type != SampleType::uint8 || spec.channels < 3)
     return PackedImageRGB::pack(read_image_rgb(file));
   std::vector<uint8_t> codes(size_t(3) * spec.width * spec.height);
-  if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, codes.data()))
-    throw InputError(file, "cannot decode image: " + in->geterror());
+  in.read(3, SampleType::uint8, codes.data());
   return PackedImageRGB::from_codes(spec.width, spec.height, std::move(codes));
 }
 

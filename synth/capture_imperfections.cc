@@ -4,9 +4,10 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
-#include <opencv2/imgcodecs.hpp>
 #include <random>
 #include <stdexcept>
+
+#include "splat/image_codec.h"
 
 namespace synth {
 
@@ -73,18 +74,7 @@ std::vector<Eigen::Vector3d> view_gains(const CaptureOptions& o, int views, uint
 namespace {
 
 void compress_jpeg(splat::ImageRGB& image, int quality) {
-  cv::Mat bgr(image.height, image.width, CV_8UC3);
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x)
-      for (int c = 0; c < 3; ++c)
-        bgr.at<cv::Vec3b>(y, x)[2 - c] =
-            uint8_t(std::lround(255 * std::clamp(image.pixel(x, y)[c], 0.f, 1.f)));
-  std::vector<uint8_t> bytes;
-  cv::imencode(".jpg", bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, quality});
-  const cv::Mat decoded = cv::imdecode(bytes, cv::IMREAD_COLOR);
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x)
-      for (int c = 0; c < 3; ++c) image.pixel(x, y)[c] = decoded.at<cv::Vec3b>(y, x)[2 - c] / 255.f;
+  image = splat::decode_jpeg(splat::encode_jpeg(image, quality));
 }
 
 }  // namespace

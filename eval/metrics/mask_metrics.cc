@@ -1,7 +1,5 @@
 #include "eval/metrics/mask_metrics.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,6 +7,7 @@
 
 #include "splat/error.h"
 #include "splat/id_maps.h"
+#include "splat/image_codec.h"
 
 namespace eval {
 namespace fs = std::filesystem;
@@ -20,21 +19,18 @@ size_t Mask::count() const {
 }
 
 splat::IdMap read_grey_like_pillow(const fs::path& file) {
-  auto in = OIIO::ImageInput::open(file.string());
-  if (!in) throw splat::InputError(file, "cannot read the mask: " + OIIO::geterror());
-  const OIIO::ImageSpec spec = in->spec();
-  const int channels = spec.nchannels;
-  const bool sixteen = spec.format.basetype == OIIO::TypeDesc::UINT16;
+  splat::ImageFileReader in(file);
+  const splat::ImageFileSpec& spec = in.spec();
+  const int channels = spec.channels;
+  const bool sixteen = spec.type == splat::SampleType::uint16;
   // Read in the file's own scale (8 or 16 bit, no conversion) so that the
   // luma and clipping below match Pillow's integer arithmetic.
   std::vector<uint8_t> px8;
   std::vector<uint16_t> px16;
-  const size_t values = size_t(spec.width) * spec.height * channels;
-  const bool ok = sixteen ? (px16.resize(values),
-                             in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT16, px16.data()))
-                          : (px8.resize(values),
-                             in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, px8.data()));
-  if (!ok) throw splat::InputError(file, "cannot decode the mask: " + in->geterror());
+  if (sixteen)
+    px16 = in.read_all<uint16_t>(splat::SampleType::uint16);
+  else
+    px8 = in.read_all<uint8_t>(splat::SampleType::uint8);
   splat::IdMap grey(spec.width, spec.height);
   const auto v8 = [&](size_t i) { return sixteen ? std::min<int>(px16[i], 255) : px8[i]; };
   for (size_t p = 0; p < grey.ids.size(); ++p) {

@@ -1,9 +1,9 @@
 #include "eval/report/html.h"
 
 #include <algorithm>
-#include <opencv2/imgcodecs.hpp>
 
 #include "splat/atomic_file.h"
+#include "splat/image_codec.h"
 
 namespace eval {
 
@@ -48,15 +48,7 @@ std::string base64(std::string_view bytes) {
 }
 
 std::string jpeg_data_uri(const splat::ImageRGB& image) {
-  cv::Mat bgr(image.height, image.width, CV_8UC3);
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x)
-      for (int c = 0; c < 3; ++c) {
-        const float v = image.data[3 * (size_t(y) * image.width + x) + c];
-        bgr.at<cv::Vec3b>(y, x)[2 - c] = uint8_t(std::lround(std::clamp(v, 0.f, 1.f) * 255));
-      }
-  std::vector<uint8_t> jpeg;
-  cv::imencode(".jpg", bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, 90});
+  const std::vector<uint8_t> jpeg = splat::encode_jpeg(image, 90);
   return "data:image/jpeg;base64," +
          base64(std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size()));
 }

@@ -1,6 +1,5 @@
 #include "splat/image.h"
 
-#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #if defined(__SANITIZE_ADDRESS__)
 #include <sanitizer/lsan_interface.h>
@@ -11,6 +10,7 @@
 
 #include "splat/error.h"
 #include "splat/id_maps.h"
+#include "splat/image_codec.h"
 #include "tests/test_util.h"
 
 namespace splat {
@@ -19,15 +19,12 @@ namespace {
 using testing_util::TempDir;
 using testing_util::write_file;
 
-// Writes raw integer pixels with OpenImageIO, bypassing our writers.
+// Writes raw pixels straight through the codec, bypassing our RGB and ID
+// map writers.
 template <typename T>
 void write_raw(const std::filesystem::path& file, int w, int h, int channels,
-               const std::vector<T>& px, OIIO::TypeDesc type) {
-  auto out = OIIO::ImageOutput::create(file.string());
-  ASSERT_TRUE(out);
-  ASSERT_TRUE(out->open(file.string(), OIIO::ImageSpec(w, h, channels, type)));
-  ASSERT_TRUE(out->write_image(type, px.data()));
-  out->close();
+               const std::vector<T>& px, SampleType type) {
+  write_image_file(file, {w, h, channels, type}, type, px.data());
 }
 
 ImageRGB gradient(int w, int h) {
@@ -44,9 +41,9 @@ ImageRGB gradient(int w, int h) {
 
 TEST(Image, Reads8And16BitPngToUnitRange) {
   TempDir dir;
-  write_raw<uint8_t>(dir / "a8.png", 2, 1, 3, {0, 128, 255, 255, 0, 51}, OIIO::TypeDesc::UINT8);
+  write_raw<uint8_t>(dir / "a8.png", 2, 1, 3, {0, 128, 255, 255, 0, 51}, SampleType::uint8);
   write_raw<uint16_t>(dir / "a16.png", 2, 1, 3, {0, 32768, 65535, 65535, 0, 13107},
-                      OIIO::TypeDesc::UINT16);
+                      SampleType::uint16);
   for (const char* f : {"a8.png", "a16.png"}) {
     const ImageRGB im = read_image_rgb(dir / f);
     ASSERT_EQ(im.width, 2);
@@ -59,8 +56,8 @@ TEST(Image, Reads8And16BitPngToUnitRange) {
 
 TEST(Image, GreyIsReplicatedAndAlphaDropped) {
   TempDir dir;
-  write_raw<uint8_t>(dir / "g.png", 1, 1, 1, {255}, OIIO::TypeDesc::UINT8);
-  write_raw<uint8_t>(dir / "rgba.png", 1, 1, 4, {0, 255, 0, 10}, OIIO::TypeDesc::UINT8);
+  write_raw<uint8_t>(dir / "g.png", 1, 1, 1, {255}, SampleType::uint8);
+  write_raw<uint8_t>(dir / "rgba.png", 1, 1, 4, {0, 255, 0, 10}, SampleType::uint8);
   EXPECT_EQ(read_image_rgb(dir / "g.png").data, (std::vector<float>{1, 1, 1}));
   EXPECT_EQ(read_image_rgb(dir / "rgba.png").data, (std::vector<float>{0, 1, 0}));
 }
@@ -90,7 +87,7 @@ TEST(Image, PngJpegExrWriteAndReadBack) {
 
 TEST(Image, ExrValuesAreClampedToUnitRange) {
   TempDir dir;
-  write_raw<float>(dir / "hdr.exr", 1, 1, 3, {2.5f, -1.f, 0.5f}, OIIO::TypeDesc::FLOAT);
+  write_raw<float>(dir / "hdr.exr", 1, 1, 3, {2.5f, -1.f, 0.5f}, SampleType::float32);
   EXPECT_EQ(read_image_rgb(dir / "hdr.exr").data, (std::vector<float>{1, 0, 0.5f}));
 }
 
@@ -153,7 +150,7 @@ TEST(IdMap, RoundTrip8And16Bit) {
 TEST(IdMap, EightBitIdsAreNotRescaled) {
   // 255 in an 8-bit map is ID 255, not 65535.
   TempDir dir;
-  write_raw<uint8_t>(dir / "m.png", 2, 1, 1, {255, 7}, OIIO::TypeDesc::UINT8);
+  write_raw<uint8_t>(dir / "m.png", 2, 1, 1, {255, 7}, SampleType::uint8);
   EXPECT_EQ(read_id_map(dir / "m.png").ids, (std::vector<uint16_t>{255, 7}));
 }
 
@@ -167,9 +164,9 @@ TEST(IdMap, Rejects8BitOverflowOnWrite) {
 
 TEST(IdMap, RejectsMultiChannelAndBadFilesNamingThem) {
   TempDir dir;
-  write_raw<uint8_t>(dir / "rgb.png", 1, 1, 3, {1, 2, 3}, OIIO::TypeDesc::UINT8);
+  write_raw<uint8_t>(dir / "rgb.png", 1, 1, 3, {1, 2, 3}, SampleType::uint8);
   write_file(dir / "junk.png", "this is not a png");
-  write_raw<float>(dir / "float.exr", 1, 1, 1, {1.f}, OIIO::TypeDesc::FLOAT);
+  write_raw<float>(dir / "float.exr", 1, 1, 1, {1.f}, SampleType::float32);
   for (const char* f : {"rgb.png", "junk.png", "float.exr", "missing.png"}) {
     try {
       read_id_map(dir / f);

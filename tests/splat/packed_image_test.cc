@@ -1,10 +1,10 @@
 #include "splat/packed_image.h"
 
-#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <cstring>
 
+#include "splat/image_codec.h"
 #include "tests/test_util.h"
 
 namespace splat {
@@ -18,12 +18,8 @@ bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
 
 template <typename T>
 void write_png(const std::filesystem::path& file, int w, int h, const std::vector<T>& px,
-               OIIO::TypeDesc type) {
-  auto out = OIIO::ImageOutput::create(file.string());
-  ASSERT_TRUE(out);
-  ASSERT_TRUE(out->open(file.string(), OIIO::ImageSpec(w, h, 3, type)));
-  ASSERT_TRUE(out->write_image(type, px.data()));
-  out->close();
+               SampleType type) {
+  write_image_file(file, {w, h, 3, type}, type, px.data());
 }
 
 TEST(PackedImage, EveryCodeValueRoundTripsAsACode) {
@@ -63,7 +59,7 @@ TEST(PackedImage, EightBitPhotosPackAsCodesSixteenBitAsFloats) {
   TempDir dir;
   std::vector<uint8_t> px8(3 * 256);
   for (size_t i = 0; i < px8.size(); ++i) px8[i] = uint8_t(i * 7);
-  write_png<uint8_t>(dir / "a8.png", 256, 1, px8, OIIO::TypeDesc::UINT8);
+  write_png<uint8_t>(dir / "a8.png", 256, 1, px8, SampleType::uint8);
   const ImageRGB im8 = read_image_rgb(dir / "a8.png");
   const PackedImageRGB p8 = PackedImageRGB::pack(im8);
   EXPECT_TRUE(p8.holds_codes());
@@ -74,7 +70,7 @@ TEST(PackedImage, EightBitPhotosPackAsCodesSixteenBitAsFloats) {
 
   std::vector<uint16_t> px16(3 * 256);
   for (size_t i = 0; i < px16.size(); ++i) px16[i] = uint16_t(i * 97 + 1);
-  write_png<uint16_t>(dir / "a16.png", 256, 1, px16, OIIO::TypeDesc::UINT16);
+  write_png<uint16_t>(dir / "a16.png", 256, 1, px16, SampleType::uint16);
   const ImageRGB im16 = read_image_rgb(dir / "a16.png");
   const PackedImageRGB p16 = PackedImageRGB::pack(im16);
   EXPECT_FALSE(p16.holds_codes());
@@ -87,11 +83,7 @@ TEST(PackedImage, ReadsAsReadImageRgbDoes) {
   TempDir dir;
   std::vector<uint8_t> rgba(4 * 64 * 8);
   for (size_t i = 0; i < rgba.size(); ++i) rgba[i] = uint8_t(i * 13 + 5);
-  auto out = OIIO::ImageOutput::create((dir / "a.png").string());
-  ASSERT_TRUE(
-      out->open((dir / "a.png").string(), OIIO::ImageSpec(64, 8, 4, OIIO::TypeDesc::UINT8)));
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, rgba.data()));
-  out->close();
+  write_image_file(dir / "a.png", {64, 8, 4}, SampleType::uint8, rgba.data());
   ImageRGB im(64, 8);
   for (size_t i = 0; i < im.data.size(); ++i) im.data[i] = float(i % 97) / 96.f;
   write_image_rgb(dir / "b.jpg", im);

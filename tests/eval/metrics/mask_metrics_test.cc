@@ -2,13 +2,13 @@
 
 #include "eval/metrics/mask_metrics.h"
 
-#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "splat/id_maps.h"
 #include "splat/image.h"
+#include "splat/image_codec.h"
 #include "tests/test_util.h"
 
 namespace eval {
@@ -62,13 +62,14 @@ TEST(MaskMetrics, ReadsMasksAsPillowsGreyscaleAboveHalf) {
   // RGB: Pillow's luma of (129,129,129) is 129 (on), of (128,...) 128 (off),
   // of pure red 76 (off), of pure green 150 (on).
   const uint8_t rgb[4][3] = {{129, 129, 129}, {128, 128, 128}, {255, 0, 0}, {0, 255, 0}};
-  OIIO::ImageSpec spec(4, 1, 3, OIIO::TypeDesc::UINT8);
   const std::string file = (dir / "m.png").string();
-  auto out = OIIO::ImageOutput::create(file);
-  ASSERT_TRUE(out && out->open(file, spec));
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, rgb));
-  out->close();
+  splat::write_image_file(file, {4, 1, 3}, splat::SampleType::uint8, rgb);
   EXPECT_EQ(read_mask(file).on, (std::vector<uint8_t>{1, 0, 0, 1}));
+  // RGBA: Pillow's greyscale leaves the alpha out, so a white pixel that is
+  // nearly transparent is still on, and a black opaque one off.
+  const uint8_t rgba[2][4] = {{255, 255, 255, 10}, {0, 0, 0, 255}};
+  splat::write_image_file(dir / "a.png", {2, 1, 4}, splat::SampleType::uint8, rgba);
+  EXPECT_EQ(read_mask(dir / "a.png").on, (std::vector<uint8_t>{1, 0}));
   // Grey 8-bit masks of 0 and 255.
   splat::IdMap grey(3, 1);
   grey.ids = {0, 255, 129};
