@@ -7,7 +7,6 @@
 #include <stdexcept>
 
 #include "splat/atomic_file.h"
-#include "splat/error.h"
 #include "splat/image_codec.h"
 
 namespace splat {

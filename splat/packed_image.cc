@@ -7,7 +7,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "splat/error.h"
 #include "splat/image_codec.h"
 
 namespace splat {

@@ -71,14 +71,6 @@ std::vector<Eigen::Vector3d> view_gains(const CaptureOptions& o, int views, uint
   return gains;
 }
 
-namespace {
-
-void compress_jpeg(splat::ImageRGB& image, int quality) {
-  image = splat::decode_jpeg(splat::encode_jpeg(image, quality));
-}
-
-}  // namespace
-
 void record_photo(splat::ImageRGB& image, const Eigen::Vector3d& gain, const CaptureOptions& o,
                   uint64_t seed) {
   std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + 11);
@@ -93,7 +85,8 @@ void record_photo(splat::ImageRGB& image, const Eigen::Vector3d& gain, const Cap
       }
     }
   }
-  if (o.jpeg_quality > 0) compress_jpeg(image, o.jpeg_quality);
+  // Saved and read back as a JPEG, as the camera app would.
+  if (o.jpeg_quality > 0) image = splat::decode_jpeg(splat::encode_jpeg(image, o.jpeg_quality));
 }
 
 std::vector<splat::Camera> sfm_like_cameras(const std::vector<splat::Camera>& truth,

@@ -5,7 +5,6 @@
 #include <limits>
 #include <stdexcept>
 
-#include "splat/error.h"
 #include "splat/id_maps.h"
 #include "splat/image_codec.h"
 

@@ -1,7 +1,5 @@
 #include "eval/report/html.h"
 
-#include <algorithm>
-
 #include "splat/atomic_file.h"
 #include "splat/image_codec.h"
 
