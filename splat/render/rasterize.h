@@ -21,6 +21,7 @@ namespace splat {
 inline constexpr int kBlockSize = 4;  // blocks of kBlockSize x kBlockSize pixels
 inline constexpr int kBlockLanes = kBlockSize * kBlockSize;
 inline constexpr int kBlocksPerTile = (kTileSize / kBlockSize) * (kTileSize / kBlockSize);
+inline constexpr int kTilePixels = kBlocksPerTile * kBlockLanes;
 
 // Floats of gradient the backward pass keeps per (Gaussian, tile) entry.
 inline constexpr int kRasterEntryGradients = 11;
@@ -67,10 +68,13 @@ struct RasterState {
   int width = 0, height = 0;
   ProjectedGaussians projected;
   TileBins bins;
-  std::vector<float> final_transmittance;  // W * H
-  std::vector<uint32_t> n_contrib;         // W * H: tile-list position of the last contributor + 1
-  std::vector<int32_t> map_of_label;       // label -> instance map plane, -1 if none
-  std::vector<int32_t> labels;             // per Gaussian (copied from the model, 0 if none)
+  // Per pixel in tile order (tile, block, lane: kTilePixels a tile, lanes
+  // off the image holding 1 and 0), so that the backward pass reads a tile's
+  // in one run: read as image rows, each tile's 16 rows missed the cache.
+  std::vector<float> final_transmittance;
+  std::vector<uint32_t> n_contrib;    // tile-list position of the last contributor + 1
+  std::vector<int32_t> map_of_label;  // label -> instance map plane, -1 if none
+  std::vector<int32_t> labels;        // per Gaussian (copied from the model, 0 if none)
   // Per Gaussian, filled for visible ones; read at random, tile by tile.
   std::vector<SplatRecord, HugePageAllocator<SplatRecord>> records;
   std::vector<uint16_t> slot_blocks;  // per slot: the tile's 4x4 blocks it reaches, a bit each

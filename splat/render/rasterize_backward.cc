@@ -329,28 +329,54 @@ void load_tile_planes(const TileGaussians& tg, const RasterState& st,
   }
 }
 
+// Copies one plane's pixels of the tile (rows x columns from `from`, whose
+// rows are `stride` values apart and whose pixels `step` apart) into
+// to[block][lane]; lanes off the image keep their value.
+void scatter_tile_rows(const float* from, size_t stride, int step, int rows, int columns,
+                       float (&to)[kBlocks][kLanes]) {
+  constexpr int kBlocksPerRow = kTileSize / kBlockSize;
+  for (int r = 0; r < rows; ++r)
+    for (int x = 0; x < columns; ++x)
+      to[(r / kBlockSize) * kBlocksPerRow + x / kBlockSize]
+        [(r % kBlockSize) * kBlockSize + x % kBlockSize] = from[r * stride + size_t(x) * step];
+}
+
+// The state of tile t (top-left pixel tile_x0, tile_y0): the forward pass's
+// transmittance and last contributors, the output gradients (zero off the
+// image), and what lies behind the last contributor (the background).
 void load_tile_state(const RenderSettings& settings, const RasterState& st,
-                     const RenderOutputGradients& grads, bool color, int tile_x0, int tile_y0,
-                     TileBackState& s) {
+                     const RenderOutputGradients& grads, bool color, size_t t, int tile_x0,
+                     int tile_y0, TileBackState& s) {
+  const float* T_final = &st.final_transmittance[t * kTilePixels];
+  const uint32_t* last = &st.n_contrib[t * kTilePixels];
   for (int b = 0; b < kBlocks; ++b) {
-    const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
     s.block_last[b] = 0;
     for (int l = 0; l < kLanes; ++l) {
-      const bool in = block.inside(l, st.width, st.height);
-      const size_t pix = in ? block.pixel(l, st.width) : 0;
-      s.T[b][l] = s.T_final[b][l] = in ? st.final_transmittance[pix] : 1.f;
-      s.last[b][l] = in ? int32_t(st.n_contrib[pix]) : 0;
+      s.T[b][l] = s.T_final[b][l] = T_final[b * kLanes + l];
+      s.last[b][l] = int32_t(last[b * kLanes + l]);
       s.block_last[b] = std::max(s.block_last[b], s.last[b][l]);
-      s.g_alpha[b][l] = in && !grads.alpha.empty() ? grads.alpha[pix] : 0.f;
-      s.g_depth[b][l] = in && !grads.depth.empty() ? grads.depth[pix] : 0.f;
-      s.behind_depth[b][l] = 0.f;
-      s.behind_color[b][l] = 0.f;
-      for (int c = 0; c < 3; ++c) {
-        s.g_color[c][b][l] = in && color ? grads.color[3 * pix + c] : 0.f;
-        s.behind_color[b][l] += s.g_color[c][b][l] * s.T_final[b][l] * settings.background[c];
-      }
     }
   }
+  // Image rows, not lanes one by one: a lane's test of lying on the image
+  // and its scattered loads cost more than the copy.
+  for (auto* plane :
+       {&s.g_alpha, &s.g_depth, &s.behind_depth, &s.g_color[0], &s.g_color[1], &s.g_color[2]})
+    std::fill_n(&(*plane)[0][0], kTilePixels, 0.f);
+  const int W = st.width;
+  const int rows = std::min(kTileSize, st.height - tile_y0),
+            columns = std::min(kTileSize, W - tile_x0);
+  const size_t first = size_t(tile_y0) * W + tile_x0;
+  if (!grads.alpha.empty()) scatter_tile_rows(&grads.alpha[first], W, 1, rows, columns, s.g_alpha);
+  if (!grads.depth.empty()) scatter_tile_rows(&grads.depth[first], W, 1, rows, columns, s.g_depth);
+  if (color)
+    for (int c = 0; c < 3; ++c)
+      scatter_tile_rows(&grads.color[3 * first + c], 3 * size_t(W), 3, rows, columns, s.g_color[c]);
+  for (int b = 0; b < kBlocks; ++b)
+    for (int l = 0; l < kLanes; ++l) {
+      s.behind_color[b][l] = 0.f;
+      for (int c = 0; c < 3; ++c)
+        s.behind_color[b][l] += s.g_color[c][b][l] * s.T_final[b][l] * settings.background[c];
+    }
 }
 
 // The rows of tiles [row_begin, row_end) whose entries' gradients are held at once.
@@ -489,7 +515,7 @@ void backward_band(const RenderSettings& settings, const BackwardSettings& backw
       }
       tg.gather(st, lo, hi);
       tg.use_blocks(st.slot_blocks.data() + lo);
-      load_tile_state(settings, st, grads, color, tx * kTileSize, ty * kTileSize, *s);
+      load_tile_state(settings, st, grads, color, t, tx * kTileSize, ty * kTileSize, *s);
       if (planes) load_tile_planes(tg, st, grads, planes, tx * kTileSize, ty * kTileSize, *s);
       tile_fn(tg, entries.data(), tx * kTileSize, ty * kTileSize, *s, st.entry_grads);
     }

@@ -148,23 +148,30 @@ BlockFunction pick_block_function(bool color, bool depth, bool instance, bool la
   return table[(color ? 8 : 0) + (depth ? 4 : 0) + (instance ? 2 : 0) + (labels ? 1 : 0)];
 }
 
+// The block's pixels into the outputs, and the backward pass's state of
+// all its lanes into the tile-ordered arrays from `slot` on.
 void store_block(const RenderSettings& settings, const PixelBlock& block, const BlockState& s,
-                 RasterState& st, RenderOutput& out) {
+                 size_t slot, RasterState& st, RenderOutput& out) {
   const int W = st.width, H = st.height;
   for (int l = 0; l < kLanes; ++l) {
-    if (!block.inside(l, W, H)) continue;
-    const size_t pix = block.pixel(l, W);
-    if (settings.color)
-      for (int c = 0; c < 3; ++c)
-        out.color[3 * pix + c] = s.color[c][l] + s.T[l] * settings.background[c];
-    out.alpha[pix] = 1.f - s.T[l];
-    if (settings.depth) out.depth[pix] = s.depth[l];
-    out.contributors[pix] = uint32_t(s.blended[l]);
-    st.final_transmittance[pix] = s.T[l];
-    st.n_contrib[pix] = uint32_t(s.last[l]);
-    if (settings.instance_label_map) out.instance_label[pix] = s.instance_label[l];
-    if (settings.baseline_label_map) out.baseline_label[pix] = s.baseline_label[l];
+    st.final_transmittance[slot + l] = s.T[l];
+    st.n_contrib[slot + l] = uint32_t(s.last[l]);
   }
+  // Row by row over the block's pixels on the image, without a test per lane.
+  const int rows = std::min(kBlockSize, H - block.y0), columns = std::min(kBlockSize, W - block.x0);
+  for (int r = 0; r < rows; ++r)
+    for (int i = 0; i < columns; ++i) {
+      const int l = r * kBlockSize + i;
+      const size_t pix = size_t(block.y0 + r) * W + block.x0 + i;
+      if (settings.color)
+        for (int c = 0; c < 3; ++c)
+          out.color[3 * pix + c] = s.color[c][l] + s.T[l] * settings.background[c];
+      out.alpha[pix] = 1.f - s.T[l];
+      if (settings.depth) out.depth[pix] = s.depth[l];
+      out.contributors[pix] = uint32_t(s.blended[l]);
+      if (settings.instance_label_map) out.instance_label[pix] = s.instance_label[l];
+      if (settings.baseline_label_map) out.baseline_label[pix] = s.baseline_label[l];
+    }
 }
 
 // Writes 16 floats (64 bytes) to the output. The occupancy planes are the
@@ -267,14 +274,14 @@ void rasterize_forward(const RenderSettings& settings, RasterState& st, RenderOu
   out.instance_maps.resize(planes * pixels);
   out.instance_label.resize(settings.instance_label_map ? pixels : 0);
   out.baseline_label.resize(settings.baseline_label_map ? pixels : 0);
-  st.final_transmittance.resize(pixels);
-  st.n_contrib.resize(pixels);
+  const size_t tiles = size_t(st.bins.tiles_x) * st.bins.tiles_y;
+  st.final_transmittance.resize(tiles * kTilePixels);
+  st.n_contrib.resize(tiles * kTilePixels);
   const BlockFunction block_fn =
       pick_block_function(settings.color, settings.depth, planes > 0, labels);
   pack_records(settings.color, st);
   st.slot_blocks.resize(st.bins.num_entries());
 
-  const size_t tiles = size_t(st.bins.tiles_x) * st.bins.tiles_y;
   // The tile's Gaussians per thread, not per task: a task's buffers grew
   // tile by tile and were freed at its end, some hundred times a view.
   tbb::enumerable_thread_specific<TileGaussians> gathered;
@@ -290,10 +297,15 @@ void rasterize_forward(const RenderSettings& settings, RasterState& st, RenderOu
       tile_planes.begin(planes);
       for (int b = 0; b < kBlocksPerTile; ++b) {
         const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
-        if (block.x0 >= W || block.y0 >= H) continue;
+        const size_t slot = t * kTilePixels + size_t(b) * kLanes;
+        if (block.x0 >= W || block.y0 >= H) {
+          std::fill_n(&st.final_transmittance[slot], kLanes, 1.f);
+          std::fill_n(&st.n_contrib[slot], kLanes, 0u);
+          continue;
+        }
         s.reset(block, W, H, planes);
         block_fn(tg, b, block, s);
-        store_block(settings, block, s, st, out);
+        store_block(settings, block, s, slot, st, out);
         tile_planes.add_block(s, b);
       }
       tile_planes.store(tile_x0, tile_y0, W, H, out.instance_maps.data());
