@@ -11,6 +11,7 @@
 #endif
 
 #include "splat/render/fast_exp.h"
+#include "splat/render/gaussian_power.h"
 #include "splat/render/pixel_block.h"
 #include "splat/render/rasterize.h"
 #include "splat/render/tile_gaussians.h"
@@ -80,7 +81,7 @@ inline void blend(const TileGaussians& tg, size_t k, float px0, float py0, Block
 #pragma GCC ivdep
   for (int l = 0; l < kLanes; ++l) {
     const float dx = mx - kLaneOffsets.x[l], dy = my - kLaneOffsets.y[l];
-    const float power = -0.5f * (A * dx * dx + C * dy * dy) - B * dx * dy;
+    const float power = gaussian_power(A, B, C, dx, dy);
     const float G = fast_exp(std::min(power, 0.f));
     const float alpha = std::min(kMaxAlpha, op * G);
     // Conditions as float 0/1 masks and selects on them: GCC if-converts
