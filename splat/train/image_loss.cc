@@ -18,7 +18,15 @@ constexpr float kC1 = 0.01f * 0.01f, kC2 = 0.03f * 0.03f;
 // kept apart and the bands are added in order, so the result is the same
 // whatever the number of threads.
 constexpr int kBandRows = 8;
-constexpr int kLanes = 16;  // partial sums kept apart (one AVX-512 register of floats)
+// Pixels per vector: one register of floats. A vector wider than the
+// target's registers is not split well by GCC 12: on AVX2 a 16-float vector
+// times a scalar went through the stack lane by lane, and the blurs ran
+// several times slower than with 8 floats.
+#ifdef __AVX512F__
+constexpr int kLanes = 16;
+#else
+constexpr int kLanes = 8;
+#endif
 
 using Window = std::array<float, 2 * kRadius + 1>;
 
@@ -45,8 +53,8 @@ void for_each_band(int H, const Body& body) {
 // before it is read (clearing them was a few per cent of the loss).
 std::unique_ptr<float[]> scratch(size_t n) { return std::make_unique_for_overwrite<float[]>(n); }
 
-// kLanes floats as one vector (GCC's vector extension: one AVX-512 register,
-// or two AVX ones); unaligned loads through memcpy.
+// kLanes floats as one vector (GCC's vector extension); unaligned loads
+// through memcpy.
 using Lanes = float __attribute__((vector_size(kLanes * sizeof(float))));
 inline Lanes load_lanes(const float* p) {
   Lanes v;
