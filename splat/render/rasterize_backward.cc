@@ -11,7 +11,7 @@
 #include <array>
 #include <cmath>
 #include <span>
-#if defined(__AVX512F__)
+#if defined(__AVX2__)
 #include <immintrin.h>
 #endif
 
@@ -164,6 +164,14 @@ inline void back_block(const TileGaussians& tg, size_t k, float px0, float py0, 
 inline unsigned blocks_blended_past(const TileBackState& s, int32_t k) {
 #if defined(__AVX512F__)
   return _mm512_cmpgt_epi32_mask(_mm512_load_si512(s.block_last), _mm512_set1_epi32(k));
+#elif defined(__AVX2__)
+  // GCC 12 made the portable loop sixteen scalar compares and shifts.
+  const __m256i key = _mm256_set1_epi32(k);
+  const auto half = [&](int first) {
+    const __m256i last = _mm256_load_si256(reinterpret_cast<const __m256i*>(s.block_last + first));
+    return unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(last, key))));
+  };
+  return half(0) | half(8) << 8;
 #else
   unsigned mask = 0;
   for (int b = 0; b < kBlocks; ++b) mask |= s.block_last[b] > k ? 1u << b : 0u;

@@ -9,7 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <vector>
-#if defined(__AVX512F__)
+#if defined(__AVX2__)
 #include <immintrin.h>
 #endif
 
@@ -152,8 +152,16 @@ struct TileGaussians {
       hit[b] = in_box * near;
     }
 #if defined(__AVX512F__)
-    // One compare into a mask register; GCC leaves the loop below scalar.
+    // One compare into a mask register, or two and their sign bits on AVX2;
+    // GCC leaves the loop below scalar.
     return uint16_t(_mm512_cmp_ps_mask(_mm512_load_ps(hit), _mm512_setzero_ps(), _CMP_GT_OQ));
+#elif defined(__AVX2__)
+    const auto half = [&](int first) {
+      const __m256 positive =
+          _mm256_cmp_ps(_mm256_load_ps(hit + first), _mm256_setzero_ps(), _CMP_GT_OQ);
+      return unsigned(_mm256_movemask_ps(positive));
+    };
+    return uint16_t(half(0) | half(8) << 8);
 #else
     uint16_t mask = 0;
     for (int b = 0; b < kBlocksPerTile; ++b) mask |= uint16_t(hit[b] > 0.f ? 1u << b : 0u);
