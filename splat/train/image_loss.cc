@@ -18,10 +18,10 @@ constexpr float kC1 = 0.01f * 0.01f, kC2 = 0.03f * 0.03f;
 // kept apart and the bands are added in order, so the result is the same
 // whatever the number of threads.
 constexpr int kBandRows = 8;
-// Pixels per vector: one register of floats. A vector wider than the
-// target's registers is not split well by GCC 12: on AVX2 a 16-float vector
-// times a scalar went through the stack lane by lane, and the blurs ran
-// several times slower than with 8 floats.
+// Pixels per vector: 16 floats, one register, with AVX-512; 8, one AVX
+// register, on other targets. GCC 12 split a 16-float vector badly on AVX2:
+// a vector times a scalar went through the stack lane by lane, and the
+// blurs ran several times slower than with 8 floats.
 #ifdef __AVX512F__
 constexpr int kLanes = 16;
 #else
