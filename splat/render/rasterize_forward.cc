@@ -113,7 +113,9 @@ inline void blend(const TileGaussians& tg, size_t k, float px0, float py0, Block
       }
     }
     s.last[l] = m_contribute > 0.f ? position : s.last[l];
-    s.blended[l] += m_contribute > 0.f ? 1 : 0;
+    // m_contribute is 0 or 1: added as a number, since GCC made the
+    // conditional add a branch and a masked store on AVX2.
+    s.blended[l] += int32_t(m_contribute);
     s.T[l] = m_contribute > 0.f ? next_T : s.T[l];
     s.done[l] = std::max(s.done[l], m_terminate);
   }
