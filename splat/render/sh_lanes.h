@@ -5,11 +5,12 @@
 // and its backward compute the Gaussians of a batch in lanes, so they want
 // coefficient j of every Gaussian of the batch together. With AVX-512 a batch
 // is turned by 16 x 16 transposes in registers (48 loads and 192 shuffles a
-// batch); a loop of scalar loads and stores does the same elsewhere.
+// batch), with AVX2 by 8 x 8 ones (96 loads and 288 shuffles); a loop of
+// scalar loads and stores does the same elsewhere (720 of each).
 
 #include <cstddef>
 #include <cstdint>
-#if defined(__AVX512F__)
+#if defined(__AVX2__)
 #include <immintrin.h>
 #endif
 
@@ -85,6 +86,47 @@ inline __mmask16 block_mask(int first) {
 }
 
 }  // namespace sh_lanes_detail
+#elif defined(__AVX2__)
+namespace sh_lanes_detail {
+
+// In place: r[i] lane j becomes the old r[j] lane i.
+inline void transpose_8x8(__m256 r[8]) {
+  __m256 t[8];
+  for (int i = 0; i < 8; i += 2) {
+    t[i] = _mm256_unpacklo_ps(r[i], r[i + 1]);
+    t[i + 1] = _mm256_unpackhi_ps(r[i], r[i + 1]);
+  }
+  // Now 128-bit half h of r[4i + j] holds columns 4h + j of rows 4i..4i+3.
+  for (int i = 0; i < 8; i += 4) {
+    r[i] = _mm256_shuffle_ps(t[i], t[i + 2], _MM_SHUFFLE(1, 0, 1, 0));
+    r[i + 1] = _mm256_shuffle_ps(t[i], t[i + 2], _MM_SHUFFLE(3, 2, 3, 2));
+    r[i + 2] = _mm256_shuffle_ps(t[i + 1], t[i + 3], _MM_SHUFFLE(1, 0, 1, 0));
+    r[i + 3] = _mm256_shuffle_ps(t[i + 1], t[i + 3], _MM_SHUFFLE(3, 2, 3, 2));
+  }
+  for (int j = 0; j < 4; ++j) {
+    t[j] = _mm256_permute2f128_ps(r[j], r[4 + j], 0x20);
+    t[4 + j] = _mm256_permute2f128_ps(r[j], r[4 + j], 0x31);
+  }
+  for (int i = 0; i < 8; ++i) r[i] = t[i];
+}
+
+// The last block of a row has 5 of its 8 coefficients (40..44).
+constexpr int kLastBlock = kShRestFloats / 8 * 8;
+static_assert(kShRestFloats - kLastBlock == 5);
+
+inline __m256 load_block(const float* row, int first) {
+  if (first < kLastBlock) return _mm256_loadu_ps(row + first);
+  return _mm256_maskload_ps(row + first, _mm256_setr_epi32(-1, -1, -1, -1, -1, 0, 0, 0));
+}
+
+// Stores without a masked store, which is slow on AMD CPUs.
+inline void store_block(__m256 values, float* row, int first) {
+  if (first < kLastBlock) return _mm256_storeu_ps(row + first, values);
+  _mm_storeu_ps(row + first, _mm256_castps256_ps128(values));
+  _mm_store_ss(row + first + 4, _mm256_extractf128_ps(values, 1));
+}
+
+}  // namespace sh_lanes_detail
 #endif
 
 // rows[l]: the 45 rest coefficients of the batch's Gaussian l.
@@ -97,6 +139,15 @@ inline void load_sh_rest_lanes(const float* const rows[kProjectionBatch], ShRest
     transpose_16x16(r);
     for (int j = 0; j < 16; ++j) _mm512_store_ps(out.rows[first + j], r[j]);
   }
+#elif defined(__AVX2__)
+  using namespace sh_lanes_detail;
+  for (int first = 0; first < ShRestLanes::kRows; first += 8)
+    for (int lane = 0; lane < kProjectionBatch; lane += 8) {
+      __m256 r[8];
+      for (int l = 0; l < 8; ++l) r[l] = load_block(rows[lane + l], first);
+      transpose_8x8(r);
+      for (int j = 0; j < 8; ++j) _mm256_store_ps(&out.rows[first + j][lane], r[j]);
+    }
 #else
   for (int l = 0; l < kProjectionBatch; ++l)
     for (int j = 0; j < kShRestFloats; ++j) out.rows[j][l] = rows[l][j];
@@ -116,6 +167,17 @@ inline void store_sh_rest_rows(const ShRestLanes& in, float* const rows[kProject
     for (int l = 0; l < 16; ++l)
       if (which >> l & 1) _mm512_mask_storeu_ps(rows[l] + first, block_mask(first), r[l]);
   }
+#elif defined(__AVX2__)
+  using namespace sh_lanes_detail;
+  for (int first = 0; first < ShRestLanes::kRows; first += 8)
+    for (int lane = 0; lane < kProjectionBatch; lane += 8) {
+      if ((which >> lane & 0xff) == 0) continue;
+      __m256 r[8];
+      for (int j = 0; j < 8; ++j) r[j] = _mm256_load_ps(&in.rows[first + j][lane]);
+      transpose_8x8(r);
+      for (int l = 0; l < 8; ++l)
+        if (which >> (lane + l) & 1) store_block(r[l], rows[lane + l], first);
+    }
 #else
   for (int l = 0; l < kProjectionBatch; ++l)
     if (which >> l & 1)
