@@ -89,12 +89,25 @@ struct TileBackState {
   int32_t first_geometry_plane = 0;         // planes below it reach sigma* only
 };
 
+// sum += value, or, for the first block an entry visits (kFirst), sum =
+// value: an entry's sums start unset, since clearing them cost a call to
+// memset per entry. Only a sum of zeros can come out different, as -0
+// instead of +0, which no step after the rasterizer tells apart.
+template <bool kFirst>
+inline void accumulate(float& sum, float value) {
+  if constexpr (kFirst)
+    sum = value;
+  else
+    sum += value;
+}
+
 // One Gaussian on one block (first pixel centre px0, py0): adds its pixels'
-// gradient terms to acc. kAlphaDepth: whether the loss has alpha or depth
-// terms (training has neither; leaving them out saves a tenth of the work).
-// instance_geometry: 1, or 0 when the Gaussian's occupancy map does not reach
-// the geometry.
-template <bool kColor, bool kInstance, bool kAlphaDepth>
+// gradient terms to acc, or sets them with kFirst (acc's rows the
+// instantiation has no terms for set to zero). kAlphaDepth: whether the loss
+// has alpha or depth terms (training has neither; leaving them out saves a
+// tenth of the work). instance_geometry: 1, or 0 when the Gaussian's
+// occupancy map does not reach the geometry.
+template <bool kColor, bool kInstance, bool kAlphaDepth, bool kFirst>
 inline void back_block(const TileGaussians& tg, size_t k, float px0, float py0, int block,
                        const float* g_plane, float instance_geometry, TileBackState& s,
                        float (&acc)[kEntryGrads][kLanes]) {
@@ -124,7 +137,7 @@ inline void back_block(const TileGaussians& tg, size_t k, float px0, float py0, 
     if constexpr (kAlphaDepth) {
       g_alpha += s.g_alpha[block][l] * s.T_final[block][l] * inv_one_minus;
       g_alpha += s.g_depth[block][l] * (z * T_i - s.behind_depth[block][l] * inv_one_minus);
-      acc[kDepth][l] += s.g_depth[block][l] * w;
+      accumulate<kFirst>(acc[kDepth][l], s.g_depth[block][l] * w);
       s.behind_depth[block][l] += w * z;
     }
     if constexpr (kColor) {
@@ -132,29 +145,36 @@ inline void back_block(const TileGaussians& tg, size_t k, float px0, float py0, 
       const float g_c = s.g_color[0][block][l] * c[0] + s.g_color[1][block][l] * c[1] +
                         s.g_color[2][block][l] * c[2];
       g_alpha += g_c * T_i - s.behind_color[block][l] * inv_one_minus;
-      for (int ch = 0; ch < 3; ++ch) acc[kRed + ch][l] += s.g_color[ch][block][l] * w;
+      for (int ch = 0; ch < 3; ++ch)
+        accumulate<kFirst>(acc[kRed + ch][l], s.g_color[ch][block][l] * w);
       s.behind_color[block][l] += w * g_c;
     }
     // The alpha clamp at 0.99 has zero derivative, in both branches.
     g_alpha *= m_valid * (raw_alpha < kMaxAlpha ? 1.f : 0.f);
     float g_G = g_alpha * op;
-    acc[kOpacity][l] += g_alpha * G;
+    accumulate<kFirst>(acc[kOpacity][l], g_alpha * G);
     if constexpr (kInstance) {
       // S_j = sum alpha*_i T_i with T_i held constant: the object loss reaches
       // sigma* and the geometry (through G), never sigma or colour.
       const float g_star = m_valid * (op_star * G < kMaxAlpha ? 1.f : 0.f) * g_plane[l] * T_i;
-      acc[kInstanceOpacity][l] += g_star * G;
+      accumulate<kFirst>(acc[kInstanceOpacity][l], g_star * G);
       g_G += g_star * op_star_geometry;
     }
     // The moments of dL/dpower over the offsets (see PowerMoment); A, B and C
     // are the same for every pixel, so they are applied once per entry.
     const float g_power = g_G * G;
     const float g_dx = g_power * dx, g_dy = g_power * dy;
-    acc[kSumX][l] += g_dx;
-    acc[kSumY][l] += g_dy;
-    acc[kSumXX][l] += g_dx * dx;
-    acc[kSumXY][l] += g_dx * dy;
-    acc[kSumYY][l] += g_dy * dy;
+    accumulate<kFirst>(acc[kSumX][l], g_dx);
+    accumulate<kFirst>(acc[kSumY][l], g_dy);
+    accumulate<kFirst>(acc[kSumXX][l], g_dx * dx);
+    accumulate<kFirst>(acc[kSumXY][l], g_dx * dy);
+    accumulate<kFirst>(acc[kSumYY][l], g_dy * dy);
+    if constexpr (kFirst) {
+      if constexpr (!kAlphaDepth) acc[kDepth][l] = 0.f;
+      if constexpr (!kColor)
+        for (int ch = 0; ch < 3; ++ch) acc[kRed + ch][l] = 0.f;
+      if constexpr (!kInstance) acc[kInstanceOpacity][l] = 0.f;
+    }
     T[l] = T_i;
   }
 }
@@ -314,6 +334,23 @@ inline void for_each_block(unsigned blocks, int tile_x0, int tile_y0, Visit&& vi
   }
 }
 
+// Entry k's gradient terms over the blocks in `reached` (not empty) into
+// acc: the first block sets them, the others add to them.
+template <bool kColor, bool kInstance, bool kAlphaDepth>
+inline void back_blocks(const TileGaussians& tg, size_t k, unsigned reached, int tile_x0,
+                        int tile_y0, const float* g_planes, float instance_geometry,
+                        TileBackState& s, float (&acc)[kEntryGrads][kLanes]) {
+  auto plane = [&](int b) { return kInstance ? g_planes + b * kLanes : nullptr; };
+  const int first = __builtin_ctz(reached);
+  const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, first);
+  back_block<kColor, kInstance, kAlphaDepth, true>(tg, k, block.cx0(), block.cy0(), first,
+                                                   plane(first), instance_geometry, s, acc);
+  for_each_block(reached & (reached - 1), tile_x0, tile_y0, [&](int b, const PixelBlock& block) {
+    back_block<kColor, kInstance, kAlphaDepth, false>(tg, k, block.cx0(), block.cy0(), b, plane(b),
+                                                      instance_geometry, s, acc);
+  });
+}
+
 // All blocks of one tile, Gaussians back to front; each Gaussian's gradient
 // is summed over the blocks it reaches, then over lanes, once.
 template <bool kColor, bool kInstance, bool kAlphaDepth>
@@ -335,21 +372,17 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0
       std::fill_n(entry, kEntryGrads, 0.f);
       continue;
     }
-    alignas(64) float acc[kEntryGrads][kLanes] = {};
+    alignas(64) float acc[kEntryGrads][kLanes];  // set by the first block
     // Only Gaussians whose label has a map pay for the instance terms (the
     // others' dL/dS is zero: they would add only zeros).
     if (kInstance && tg[k].plane >= 0) {
       const float* g_planes = &s.g_planes[size_t(tg[k].plane) * kBlocks * kLanes];
       const float instance_geometry = tg[k].plane >= s.first_geometry_plane ? 1.f : 0.f;
-      for_each_block(reached, tile_x0, tile_y0, [&](int b, const PixelBlock& block) {
-        back_block<kColor, true, kAlphaDepth>(tg, size_t(k), block.cx0(), block.cy0(), b,
-                                              g_planes + b * kLanes, instance_geometry, s, acc);
-      });
+      back_blocks<kColor, true, kAlphaDepth>(tg, size_t(k), reached, tile_x0, tile_y0, g_planes,
+                                             instance_geometry, s, acc);
     } else {
-      for_each_block(reached, tile_x0, tile_y0, [&](int b, const PixelBlock& block) {
-        back_block<kColor, false, kAlphaDepth>(tg, size_t(k), block.cx0(), block.cy0(), b, nullptr,
-                                               0.f, s, acc);
-      });
+      back_blocks<kColor, false, kAlphaDepth>(tg, size_t(k), reached, tile_x0, tile_y0, nullptr,
+                                              0.f, s, acc);
     }
     write_entry(acc, tg[size_t(k)], entry);
   }
