@@ -302,8 +302,12 @@ inline void write_entry_avx2(const float (&acc)[kEntryGrads][kLanes], const Spla
                   _mm256_setr_ps(g.B, g.B, 0, 0, 0, 0, 0, 0));
   const __m256 out_high =
       finish_sums(lane_sums_of_rows(high), _mm256_set1_ps(-1), _mm256_setzero_ps());
+  // The last 3 as 2 + 1 plain stores: masked stores are microcoded on some
+  // AMD CPUs.
+  const __m128 last = _mm256_castps256_ps128(out_high);
   _mm256_storeu_ps(entry, out_low);
-  _mm256_maskstore_ps(entry + 8, _mm256_setr_epi32(-1, -1, -1, 0, 0, 0, 0, 0), out_high);
+  _mm_storel_pi(reinterpret_cast<__m64*>(entry + 8), last);
+  _mm_store_ss(entry + 10, _mm_movehl_ps(last, last));
 }
 #endif
 
