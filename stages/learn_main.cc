@@ -65,10 +65,11 @@ int main(int argc, char** argv) {
                  "paper: the object loss is the binary cross-entropy of the paper; robust: the "
                  "generalized cross-entropy (--gce-q), which learns the majority of the views' "
                  "masks instead of their mean, so a segmenter's misses and leaks in some views "
-                 "are outvoted, as the vote outvotes them")
+                 "are outvoted, as the vote outvotes them; robust-outside: the generalized "
+                 "loss only where the mask says outside (its misses), the paper's inside")
       ->capture_default_str();
   app.add_option("--gce-q", o.train.object_loss.pixel_loss.q,
-                 "q of the generalized cross-entropy (--recipe robust), in (0, 1]")
+                 "q of the generalized cross-entropy (--recipe robust, robust-outside), in (0, 1]")
       ->capture_default_str();
   app.add_option("--lr-instance-opacity", o.train.lr_instance_opacity,
                  "learning rate of sigma* (as a logit)")
@@ -78,7 +79,8 @@ int main(int argc, char** argv) {
     o.train.object_loss.pixel_loss.kind = stages::parse_choice<splat::PixelLoss::Kind>(
         "--recipe", recipe,
         {{"paper", splat::PixelLoss::Kind::kCrossEntropy},
-         {"robust", splat::PixelLoss::Kind::kGeneralized}});
+         {"robust", splat::PixelLoss::Kind::kGeneralized},
+         {"robust-outside", splat::PixelLoss::Kind::kGeneralizedOutside}});
     o.train.object_loss.reshapes_geometry = !sigma_star_only;
     o.train.densify_until = 0;  // no densification (nor opacity reset) in stage two
     const splat::WorkLayout w{work};

@@ -13,7 +13,8 @@
 # A condition is a name and op2gs-synth options, name=options with commas for
 # spaces: clean=  exposure=--exposure,0.25,--white-balance,0.03
 # Variants (VARIANTS, default "plain"): plain (the paper's recipe), robust
-# (op2gs-learn --recipe robust: the generalized cross-entropy), joined
+# (op2gs-learn --recipe robust: the generalized cross-entropy),
+# robust-outside (op2gs-learn --recipe robust-outside), joined
 # (op2gs-vote --join-switched-ids), tracks (and --find-merges), exposure
 # (op2gs-train --exposure-compensation), exposure+joined, exposure+tracks; and for the sensitivity study,
 # one value changed from the paper's: lambda-<lambda_o>, m-<M>, tau-<tau>,
@@ -80,6 +81,7 @@ for condition in "$@"; do
       case "$recipe" in
         plain) ;;
         robust) learn_options=(--recipe robust) ;;
+        robust-outside) learn_options=(--recipe robust-outside) ;;
         fast)
           train_options=(--recipe fast)
           learn_options=(--sparse-adam --half-views-from 1)

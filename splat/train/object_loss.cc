@@ -47,7 +47,7 @@ void ObjectLossOptions::Check() const {
   if (weight > 0 && id_maps.empty()) throw std::invalid_argument("no ID map folder given");
   if (!(protected_agreement >= 0 && protected_agreement <= 1))
     throw std::invalid_argument("the protected label agreement must be in [0, 1]");
-  if (pixel_loss.kind == PixelLoss::Kind::kGeneralized && !(pixel_loss.q > 0 && pixel_loss.q <= 1))
+  if (pixel_loss.kind != PixelLoss::Kind::kCrossEntropy && !(pixel_loss.q > 0 && pixel_loss.q <= 1))
     throw std::invalid_argument("the generalized cross-entropy's q must be in (0, 1]");
   if (protected_agreement > 0 && label_agreement.empty())
     throw std::invalid_argument("protecting sigma* needs op2gs-vote's label agreement file");
@@ -128,34 +128,40 @@ double object_loss_sum(const float* S, const uint16_t* ids, int32_t label, size_
 
 // The generalized cross-entropy (PixelLoss): weight * scale * dLoss/dS of
 // one plane, d/dS (1 - p^q) / q = -p^(q-1) dp/dS, zero where the clamp is
-// active. The powers only where S is not clamped: most pixels are.
+// active; with cross_entropy_inside, -1 / s where b (kGeneralizedOutside).
+// The powers only where S is not clamped: most pixels are.
 void generalized_loss_gradient(const float* S, const uint16_t* ids, int32_t label, size_t pixels,
-                               double weight_scale, double q, float* g) {
+                               double weight_scale, double q, bool cross_entropy_inside, float* g) {
   for (size_t p = 0; p < pixels; ++p) {
     if (!(S[p] > kLow && S[p] < kHigh)) {
       g[p] = 0.f;
       continue;
     }
     const double s = S[p];
-    g[p] = float(ids[p] == label ? -weight_scale * std::pow(s, q - 1)
-                                 : weight_scale * std::pow(1 - s, q - 1));
+    if (ids[p] != label)
+      g[p] = float(weight_scale * std::pow(1 - s, q - 1));
+    else
+      g[p] = float(cross_entropy_inside ? -weight_scale / s : -weight_scale * std::pow(s, q - 1));
   }
 }
 
-// The sum over one plane of (1 - p^q) / q, p = s where b, else 1 - s, s clamped.
+// The sum over one plane of (1 - p^q) / q, p = s where b, else 1 - s, s
+// clamped; with cross_entropy_inside, -log s where b.
 double generalized_loss_sum(const float* S, const uint16_t* ids, int32_t label, size_t pixels,
-                            double q) {
-  const auto term = [q](double p) { return (1 - std::pow(p, q)) / q; };
-  const double at_low = term(kLow), at_one_minus_low = term(1 - kLow);
+                            double q, bool cross_entropy_inside) {
+  const auto outside = [q](double p) { return (1 - std::pow(p, q)) / q; };
+  const auto inside = [&](double p) { return cross_entropy_inside ? -std::log(p) : outside(p); };
+  const double inside_low = inside(kLow), inside_high = inside(kHigh);
+  const double outside_low = outside(1 - kLow), outside_high = outside(1 - kHigh);
   double sum = 0;
   for (size_t p = 0; p < pixels; ++p) {
     const bool b = ids[p] == label;
     if (S[p] <= kLow)
-      sum += b ? at_low : at_one_minus_low;
+      sum += b ? inside_low : outside_low;
     else if (S[p] >= kHigh)
-      sum += b ? at_one_minus_low : at_low;
+      sum += b ? inside_high : outside_high;
     else
-      sum += term(b ? double(S[p]) : 1 - double(S[p]));
+      sum += b ? inside(double(S[p])) : outside(1 - double(S[p]));
   }
   return sum;
 }
@@ -173,7 +179,8 @@ double object_loss(std::span<const float> maps, const std::vector<int32_t>& labe
   // The planes in parallel, and each plane's gradient in chunks; each
   // plane's sum stays one loop, so the loss is the same double whatever the
   // threads.
-  const bool generalized = pixel_loss.kind == PixelLoss::Kind::kGeneralized;
+  const bool generalized = pixel_loss.kind != PixelLoss::Kind::kCrossEntropy;
+  const bool cross_entropy_inside = pixel_loss.kind == PixelLoss::Kind::kGeneralizedOutside;
   const double q = pixel_loss.q;
   std::vector<double> sums(m);
   tbb::parallel_for(size_t(0), m, [&](size_t j) {
@@ -184,11 +191,12 @@ double object_loss(std::span<const float> maps, const std::vector<int32_t>& labe
         float* g = &(*grad)[j * pixels + at];
         if (generalized)
           generalized_loss_gradient(S + at, &ids.ids[at], labels[j], r.size(), weight * scale, q,
-                                    g);
+                                    cross_entropy_inside, g);
         else
           object_loss_gradient(S + at, &ids.ids[at], labels[j], r.size(), weight * scale, g);
       });
-    sums[j] = generalized ? generalized_loss_sum(S, ids.ids.data(), labels[j], pixels, q)
+    sums[j] = generalized ? generalized_loss_sum(S, ids.ids.data(), labels[j], pixels, q,
+                                                 cross_entropy_inside)
                           : object_loss_sum(S, ids.ids.data(), labels[j], pixels);
   });
   double loss = 0;

@@ -25,6 +25,9 @@ namespace splat {
 //   kGeneralized   (1 - p^q) / q, the generalized cross-entropy of Zhang and
 //                  Sabuncu (NeurIPS 2018), q in (0, 1]: -log p as q -> 0,
 //                  the mean absolute error 1 - p at q = 1.
+//   kGeneralizedOutside
+//                  the generalized loss where the mask says "outside" (B = 0),
+//                  the cross-entropy where it says "inside".
 //
 // Why the second: sigma* is regressed on every view's mask, and under the
 // cross-entropy a pixel whose masks say "inside" in a share r of the views
@@ -35,8 +38,20 @@ namespace splat {
 // S / (1 - S) = (r / (1 - r))^(1 / (1 - q)): 3 of 4 views "inside" gives
 // S = 0.97, not 0.75, close to the majority that the vote also takes. With
 // exact masks (r = 0 or 1) both settle at B.
+//
+// Why the third: the two kinds of mask error do not weigh alike. Only the
+// Gaussians the vote gave object j's label make S_j, so a mask that misses
+// part of j (B = 0 there) lowers the sigma* of j's own Gaussians and punches
+// holes, while a mask that leaks (B = 1 outside j) can raise only those of
+// j's Gaussians whose tails reach there. And where a view says "inside" and
+// the model does not yet (a glass object's faint Gaussians, a thin part),
+// sigma* must rise, which the generalized loss slows: its pull there is
+// p^(q-1), not 1/p. So the third keeps the paper's pull inside the masks and
+// outvotes only their misses: a pixel settles inside its object when at least
+// about 38% of the views' masks (q = 0.7) say so, and 3 of 4 views "inside"
+// give S = 0.97.
 struct PixelLoss {
-  enum class Kind { kCrossEntropy, kGeneralized };
+  enum class Kind { kCrossEntropy, kGeneralized, kGeneralizedOutside };
   Kind kind = Kind::kCrossEntropy;
   double q = 0.7;
 };
