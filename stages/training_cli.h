@@ -18,7 +18,10 @@ class TrainingCli {
                       "downscale factor 1, 2, 4 or 8 (uses images_N/ if present)");
     app.add_option("--max-width", o.train.scene.max_width,
                    "scale images down to at most this width (0: off)");
-    app.add_option("--seed", o.train.seed, "random seed")->capture_default_str();
+    app.add_option("--seed", o.train.seed,
+                   "random seed (op2gs-learn: 0 continues the stage-one checkpoint's random "
+                   "stream, another value starts a new one)")
+        ->capture_default_str();
     app.add_option("--sh-degree", o.train.sh_degree, "largest SH degree")->capture_default_str();
     app.add_option("--background", background_, "background colour r g b in [0, 1]")->expected(3);
     app.add_option("--checkpoint-every", o.checkpoint_every, "iterations between checkpoints")

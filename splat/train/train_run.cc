@@ -127,6 +127,10 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
                       "before the stop iteration {}",
                       trainer.iteration(), o.stop_at));
     trainer.start_instance_learning(read_labels(o.labels_model, trainer.model()));
+    // Stage two continues stage one's random stream, so that the two stages
+    // are one run; a seed other than 0 starts another (the spread of stage
+    // two alone). A resumed run continues its checkpoint's in either case.
+    if (o.train.seed != 0) trainer.reseed(o.train.seed);
     spdlog::info("stage two from iteration {} with {} Gaussians; sigma* initialised from sigma",
                  trainer.iteration(), trainer.model().size());
   } else {

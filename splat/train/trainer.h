@@ -154,6 +154,9 @@ class Trainer {
   // the instance opacity sigma*, initialised from sigma. Throws InputError if
   // the object loss is on and a training view has no ID map.
   void start_instance_learning(const std::vector<int32_t>& labels);
+  // A new random stream (the order of the views, the objects sampled) in
+  // place of the one the checkpoint continues.
+  void reseed(uint64_t seed) { rng_.seed(seed); }
 
   // Decodes the training views (as far as the view cache holds them) and, in
   // stage two, their ID maps, on all cores, so that no iteration of the

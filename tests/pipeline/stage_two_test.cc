@@ -101,6 +101,27 @@ TEST(StageTwo, LearnsSigmaStarWithTheObjectLossAndResumesExactly) {
   EXPECT_EQ(read_gaussian_ply(b / "learn/point_cloud/iteration_400/point_cloud.ply"), m);
 }
 
+// Stage two continues stage one's random stream; a seed starts another (the
+// views' order and the objects sampled differ), and a resumed run goes on
+// with its checkpoint's.
+TEST(StageTwo, ASeedStartsAnotherRandomStream) {
+  TempDir a, b, c;
+  run_training(scene(), a / "learn", learn_options(380));
+  TrainRunOptions seeded = learn_options(380);
+  seeded.train.seed = 7;
+  run_training(scene(), b / "learn", seeded);
+  const auto model = [](const TempDir& work) {
+    return read_gaussian_ply(work / "learn/point_cloud/iteration_380/point_cloud.ply");
+  };
+  EXPECT_FALSE(model(a) == model(b));
+  seeded.stop_at = 350;  // a checkpoint
+  run_training(scene(), c / "learn", seeded);
+  seeded.stop_at = 380;
+  seeded.resume = true;
+  run_training(scene(), c / "learn", seeded);
+  EXPECT_EQ(model(c), model(b));
+}
+
 // Decoding the views and ID maps up front, on all cores, changes no step.
 TEST(StageTwo, PreloadingTheInputsChangesNoStep) {
   const TrainRunOptions o = learn_options(0);
