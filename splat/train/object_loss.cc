@@ -49,6 +49,7 @@ void ObjectLossOptions::Check() const {
     throw std::invalid_argument("the protected label agreement must be in [0, 1]");
   if (pixel_loss.kind == PixelLoss::Kind::kGeneralized && !(pixel_loss.q > 0 && pixel_loss.q <= 1))
     throw std::invalid_argument("the generalized cross-entropy's q must be in (0, 1]");
+  if (pixel_loss.edge_band < 0) throw std::invalid_argument("the edge band must be >= 0");
   if (protected_agreement > 0 && label_agreement.empty())
     throw std::invalid_argument("protecting sigma* needs op2gs-vote's label agreement file");
 }
@@ -128,39 +129,101 @@ double object_loss_sum(const float* S, const uint16_t* ids, int32_t label, size_
 
 // The generalized cross-entropy (PixelLoss): weight * scale * dLoss/dS of
 // one plane, d/dS (1 - p^q) / q = -p^(q-1) dp/dS, zero where the clamp is
-// active. The powers only where S is not clamped: most pixels are.
+// active; the cross-entropy's (s - b) / (s (1 - s)) where cross_entropy_at
+// (if not null) is 1. The powers only where S is not clamped: most pixels
+// are.
 void generalized_loss_gradient(const float* S, const uint16_t* ids, int32_t label, size_t pixels,
-                               double weight_scale, double q, float* g) {
+                               double weight_scale, double q, const uint8_t* cross_entropy_at,
+                               float* g) {
   for (size_t p = 0; p < pixels; ++p) {
     if (!(S[p] > kLow && S[p] < kHigh)) {
       g[p] = 0.f;
       continue;
     }
     const double s = S[p];
-    g[p] = float(ids[p] == label ? -weight_scale * std::pow(s, q - 1)
-                                 : weight_scale * std::pow(1 - s, q - 1));
+    const bool b = ids[p] == label;
+    if (cross_entropy_at && cross_entropy_at[p])
+      g[p] = float(weight_scale * (s - double(b)) / (s * (1 - s)));  // as the paper's
+    else
+      g[p] = float(b ? -weight_scale * std::pow(s, q - 1) : weight_scale * std::pow(1 - s, q - 1));
   }
 }
 
-// The sum over one plane of (1 - p^q) / q, p = s where b, else 1 - s, s clamped.
+// The sum over one plane of (1 - p^q) / q, p = s where b, else 1 - s, s
+// clamped; -log p where cross_entropy_at (if not null) is 1. Where the clamp
+// is active (most pixels) the terms of the clamp's bounds, computed once.
 double generalized_loss_sum(const float* S, const uint16_t* ids, int32_t label, size_t pixels,
-                            double q) {
-  const auto term = [q](double p) { return (1 - std::pow(p, q)) / q; };
-  const double at_low = term(kLow), at_one_minus_low = term(1 - kLow);
+                            double q, const uint8_t* cross_entropy_at) {
+  const auto generalized = [q](double p) { return (1 - std::pow(p, q)) / q; };
+  const auto cross_entropy = [](double p) { return -std::log(p); };
+  // The terms where S is clamped: [cross-entropy][S at the high bound][b].
+  double at_bound[2][2][2];
+  for (int ce = 0; ce < 2; ++ce)
+    for (int high = 0; high < 2; ++high)
+      for (int b = 0; b < 2; ++b) {
+        const double s = high ? kHigh : kLow, prob = b ? s : 1 - s;
+        at_bound[ce][high][b] = ce ? cross_entropy(prob) : generalized(prob);
+      }
   double sum = 0;
   for (size_t p = 0; p < pixels; ++p) {
     const bool b = ids[p] == label;
+    const bool ce = cross_entropy_at && cross_entropy_at[p];
     if (S[p] <= kLow)
-      sum += b ? at_low : at_one_minus_low;
+      sum += at_bound[ce][0][b];
     else if (S[p] >= kHigh)
-      sum += b ? at_one_minus_low : at_low;
-    else
-      sum += term(b ? double(S[p]) : 1 - double(S[p]));
+      sum += at_bound[ce][1][b];
+    else {
+      const double prob = b ? double(S[p]) : 1 - double(S[p]);
+      sum += ce ? cross_entropy(prob) : generalized(prob);
+    }
   }
   return sum;
 }
 
+// Per row, whether the window of 2 radius + 1 pixels around each pixel holds
+// a pixel of the mask (any_in) and one outside it (any_out).
+void window_any_in_rows(const uint8_t* in, int width, int height, int radius, uint8_t* any_in,
+                        uint8_t* any_out) {
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* row = in + size_t(y) * width;
+    uint8_t* i = any_in + size_t(y) * width;
+    uint8_t* o = any_out + size_t(y) * width;
+    for (int x = 0; x < width; ++x) {
+      const int from = std::max(0, x - radius), to = std::min(width - 1, x + radius);
+      uint8_t seen_in = 0, seen_out = 0;
+      for (int k = from; k <= to; ++k) {
+        seen_in |= row[k];
+        seen_out |= row[k] ^ 1;
+      }
+      i[x] = seen_in;
+      o[x] = seen_out;
+    }
+  }
+}
+
 }  // namespace
+
+std::vector<uint8_t> near_mask_outline(const IdMap& ids, int32_t label, int radius) {
+  const int w = ids.width, h = ids.height;
+  const size_t pixels = ids.ids.size();
+  std::vector<uint8_t> mask(pixels), any_in(pixels), any_out(pixels), near(pixels);
+  for (size_t p = 0; p < pixels; ++p) mask[p] = ids.ids[p] == label;
+  window_any_in_rows(mask.data(), w, h, radius, any_in.data(), any_out.data());
+  // Then down the columns: a pixel is near the outline when its square
+  // window holds both values.
+  for (int y = 0; y < h; ++y) {
+    const int from = std::max(0, y - radius), to = std::min(h - 1, y + radius);
+    uint8_t* n = near.data() + size_t(y) * w;
+    std::vector<uint8_t> in_column(w, 0), out_column(w, 0);
+    for (int k = from; k <= to; ++k)
+      for (int x = 0; x < w; ++x) {
+        in_column[x] |= any_in[size_t(k) * w + x];
+        out_column[x] |= any_out[size_t(k) * w + x];
+      }
+    for (int x = 0; x < w; ++x) n[x] = in_column[x] & out_column[x];
+  }
+  return near;
+}
 
 double object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
                    const IdMap& ids, float weight, std::vector<float>* grad,
@@ -174,22 +237,27 @@ double object_loss(std::span<const float> maps, const std::vector<int32_t>& labe
   // plane's sum stays one loop, so the loss is the same double whatever the
   // threads.
   const bool generalized = pixel_loss.kind == PixelLoss::Kind::kGeneralized;
+  const bool banded = generalized && pixel_loss.edge_band > 0;
   const double q = pixel_loss.q;
   std::vector<double> sums(m);
   tbb::parallel_for(size_t(0), m, [&](size_t j) {
     const float* S = &maps[j * pixels];
+    const std::vector<uint8_t> near_outline =
+        banded ? near_mask_outline(ids, labels[j], pixel_loss.edge_band) : std::vector<uint8_t>{};
+    const uint8_t* cross_entropy_at = banded ? near_outline.data() : nullptr;
     if (grad)
       tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const auto& r) {
         const size_t at = r.begin();
         float* g = &(*grad)[j * pixels + at];
         if (generalized)
           generalized_loss_gradient(S + at, &ids.ids[at], labels[j], r.size(), weight * scale, q,
-                                    g);
+                                    cross_entropy_at ? cross_entropy_at + at : nullptr, g);
         else
           object_loss_gradient(S + at, &ids.ids[at], labels[j], r.size(), weight * scale, g);
       });
-    sums[j] = generalized ? generalized_loss_sum(S, ids.ids.data(), labels[j], pixels, q)
-                          : object_loss_sum(S, ids.ids.data(), labels[j], pixels);
+    sums[j] = generalized
+                  ? generalized_loss_sum(S, ids.ids.data(), labels[j], pixels, q, cross_entropy_at)
+                  : object_loss_sum(S, ids.ids.data(), labels[j], pixels);
   });
   double loss = 0;
   for (double sum : sums) loss += sum;

@@ -49,13 +49,23 @@ TEST(ObjectLoss, GradientMatchesFiniteDifferences) {
 // The loss and its gradient as the papers write them, one pixel at a time:
 // the binary cross-entropy, against which object_loss (which skips the
 // logarithms of clamped values) must agree to the last bit, or the
-// generalized cross-entropy (1 - p^q) / q with p = S where B, else 1 - S.
+// generalized cross-entropy (1 - p^q) / q with p = S where B, else 1 - S,
+// and with an edge band the cross-entropy at the pixels whose square window
+// of that radius holds both mask values (searched here pixel by pixel).
+bool near_outline_by_search(const IdMap& ids, int32_t label, size_t pixel, int radius) {
+  const int x0 = int(pixel % size_t(ids.width)), y0 = int(pixel / size_t(ids.width));
+  const bool b = ids.at(x0, y0) == label;
+  for (int y = std::max(0, y0 - radius); y <= std::min(ids.height - 1, y0 + radius); ++y)
+    for (int x = std::max(0, x0 - radius); x <= std::min(ids.width - 1, x0 + radius); ++x)
+      if ((ids.at(x, y) == label) != b) return true;
+  return false;
+}
+
 double reference_object_loss(const std::vector<float>& maps, const std::vector<int32_t>& labels,
                              const IdMap& ids, float weight, std::vector<float>& grad,
                              const PixelLoss& loss = {}) {
   const size_t pixels = ids.ids.size();
   const double eps = 1e-6, scale = 1.0 / (double(labels.size()) * double(pixels)), q = loss.q;
-  const bool generalized = loss.kind == PixelLoss::Kind::kGeneralized;
   grad.assign(maps.size(), 0.f);
   double total = 0;
   for (size_t j = 0; j < labels.size(); ++j) {
@@ -65,6 +75,9 @@ double reference_object_loss(const std::vector<float>& maps, const std::vector<i
       const double b = ids.ids[p] == labels[j] ? 1.0 : 0.0;
       const double s = std::clamp(double(S), eps, 1 - eps);
       const double prob = b ? s : 1 - s;
+      const bool generalized =
+          loss.kind == PixelLoss::Kind::kGeneralized &&
+          !(loss.edge_band > 0 && near_outline_by_search(ids, labels[j], p, loss.edge_band));
       if (generalized)
         sum += (1 - std::pow(prob, q)) / q;
       else
@@ -106,24 +119,57 @@ TEST(ObjectLoss, EqualsThePerPixelFormulaExactly) {
 }
 
 PixelLoss generalized(double q) { return {PixelLoss::Kind::kGeneralized, q}; }
-
-TEST(ObjectLoss, GeneralizedLossEqualsItsPerPixelFormula) {
-  const LossCase c(11);
-  const auto& [ids, labels, maps] = c;
-  for (double q : {0.7, 0.3, 1.0}) {
-    std::vector<float> grad, expected_grad;
-    const double loss = object_loss(maps, labels, ids, 0.1f, &grad, generalized(q));
-    EXPECT_NEAR(loss, reference_object_loss(maps, labels, ids, 0.1f, expected_grad, generalized(q)),
-                1e-12)
-        << q;
-    ASSERT_EQ(grad.size(), expected_grad.size());
-    for (size_t i = 0; i < grad.size(); ++i)
-      ASSERT_NEAR(grad[i], expected_grad[i], 1e-6 * std::abs(expected_grad[i])) << q << " " << i;
-  }
+PixelLoss generalized_in_interior(double q, int band) {
+  return {PixelLoss::Kind::kGeneralized, q, band};
 }
 
-TEST(ObjectLoss, GeneralizedGradientMatchesFiniteDifferences) {
+TEST(ObjectLoss, GeneralizedLossesEqualTheirPerPixelFormula) {
+  const LossCase c(11);
+  const auto& [ids, labels, maps] = c;
+  for (double q : {0.7, 0.3, 1.0})
+    for (const PixelLoss& pixel_loss :
+         {generalized(q), generalized_in_interior(q, 1), generalized_in_interior(q, 3)}) {
+      const int kind = pixel_loss.edge_band;
+      std::vector<float> grad, expected_grad;
+      const double loss = object_loss(maps, labels, ids, 0.1f, &grad, pixel_loss);
+      EXPECT_NEAR(loss, reference_object_loss(maps, labels, ids, 0.1f, expected_grad, pixel_loss),
+                  1e-12)
+          << q << " " << kind;
+      ASSERT_EQ(grad.size(), expected_grad.size());
+      for (size_t i = 0; i < grad.size(); ++i)
+        ASSERT_NEAR(grad[i], expected_grad[i], 1e-6 * std::abs(expected_grad[i]))
+            << q << " " << kind << " " << i;
+    }
+}
+
+TEST(ObjectLoss, GeneralizedGradientsMatchFiniteDifferences) {
   expect_gradient_matches_finite_differences(generalized(0.7), 2e-3);
+  expect_gradient_matches_finite_differences(generalized_in_interior(0.7, 2), 2e-3);
+}
+
+// A square of an object in a 12 x 10 map: the pixels near its outline are
+// those within the radius of both sides; with the edge band the loss there is
+// the paper's to the last bit of the gradient, elsewhere the generalized one.
+TEST(ObjectLoss, TheEdgeBandIsThePapersLossNearTheOutline) {
+  IdMap ids(12, 10);
+  for (int y = 3; y < 8; ++y)
+    for (int x = 2; x < 9; ++x) ids.at(x, y) = 4;
+  const std::vector<uint8_t> near = near_mask_outline(ids, 4, 1);
+  for (size_t p = 0; p < near.size(); ++p)
+    EXPECT_EQ(bool(near[p]), near_outline_by_search(ids, 4, p, 1)) << p;
+  EXPECT_TRUE(near[size_t(3 * 12 + 2)]);   // the square's corner
+  EXPECT_TRUE(near[size_t(2 * 12 + 1)]);   // the pixel outside it, diagonally
+  EXPECT_FALSE(near[size_t(5 * 12 + 5)]);  // its middle
+  EXPECT_FALSE(near[size_t(0)]);           // far outside
+  std::vector<float> maps(ids.ids.size());
+  std::mt19937 rng(3);
+  for (float& v : maps) v = std::uniform_real_distribution<float>(0.01f, 0.99f)(rng);
+  std::vector<float> paper, banded, robust;
+  object_loss(maps, {4}, ids, 0.1f, &paper);
+  object_loss(maps, {4}, ids, 0.1f, &banded, generalized_in_interior(0.7, 1));
+  object_loss(maps, {4}, ids, 0.1f, &robust, generalized(0.7));
+  for (size_t p = 0; p < maps.size(); ++p)
+    EXPECT_EQ(banded[p], near[p] ? paper[p] : robust[p]) << p;
 }
 
 TEST(ObjectLoss, TheDefaultIsThePapersCrossEntropy) {
@@ -169,7 +215,7 @@ TEST(ObjectLoss, NeitherLossMovesAnOccupancyThatIsItsMask) {
   std::vector<float> maps;
   for (int32_t label : {1, 2})
     for (uint16_t id : ids.ids) maps.push_back(id == label ? 1.f : 0.f);
-  for (const PixelLoss& loss : {PixelLoss{}, generalized(0.7)}) {
+  for (const PixelLoss& loss : {PixelLoss{}, generalized(0.7), generalized_in_interior(0.7, 1)}) {
     std::vector<float> grad;
     object_loss(maps, {1, 2}, ids, 0.1f, &grad, loss);
     EXPECT_EQ(grad, std::vector<float>(maps.size(), 0.f));
