@@ -14,13 +14,13 @@
 # spaces: clean=  exposure=--exposure,0.25,--white-balance,0.03
 # Variants (VARIANTS, default "plain"): plain (the paper's recipe), robust
 # (op2gs-learn --recipe robust: the generalized cross-entropy),
-# robust-interior (op2gs-learn --recipe robust-interior), joined
+# robust-outline (op2gs-learn --recipe robust-outline), joined
 # (op2gs-vote --join-switched-ids), tracks (and --find-merges), exposure
 # (op2gs-train --exposure-compensation), exposure+joined, exposure+tracks; and for the sensitivity study,
 # one value changed from the paper's: lambda-<lambda_o>, m-<M>, tau-<tau>,
 # init-<sigma* of every Gaussian at the start of stage two>; and for the
-# spread of stage two alone, plain-seed-<n> (op2gs-learn --seed n: other
-# objects sampled per step). Pose variants:
+# spread of stage two alone, plain-seed-<n> (op2gs-learn --seed n: another
+# order of the views, other objects sampled). Pose variants:
 # fit (op2gs-render --fit-poses: the test views' cameras fitted to their
 # photos), poses (and op2gs-train --refine-poses), poses+tracks,
 # exposure+poses+tracks. The fast recipe: fast (op2gs-train --recipe fast,
@@ -83,7 +83,7 @@ for condition in "$@"; do
       case "$recipe" in
         plain) ;;
         robust) learn_options=(--recipe robust) ;;
-        robust-interior) learn_options=(--recipe robust-interior) ;;
+        robust-outline) learn_options=(--recipe robust-outline) ;;
         fast)
           train_options=(--recipe fast)
           learn_options=(--sparse-adam --half-views-from 1)

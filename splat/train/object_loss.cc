@@ -49,7 +49,7 @@ void ObjectLossOptions::Check() const {
     throw std::invalid_argument("the protected label agreement must be in [0, 1]");
   if (pixel_loss.kind == PixelLoss::Kind::kGeneralized && !(pixel_loss.q > 0 && pixel_loss.q <= 1))
     throw std::invalid_argument("the generalized cross-entropy's q must be in (0, 1]");
-  if (pixel_loss.edge_band < 0) throw std::invalid_argument("the edge band must be >= 0");
+  if (pixel_loss.outline_band < 0) throw std::invalid_argument("the outline band must be >= 0");
   if (protected_agreement > 0 && label_agreement.empty())
     throw std::invalid_argument("protecting sigma* needs op2gs-vote's label agreement file");
 }
@@ -203,12 +203,13 @@ void window_any_in_rows(const uint8_t* in, int width, int height, int radius, ui
 
 }  // namespace
 
-std::vector<uint8_t> near_mask_outline(const IdMap& ids, int32_t label, int radius) {
-  const int w = ids.width, h = ids.height;
-  const size_t pixels = ids.ids.size();
-  std::vector<uint8_t> mask(pixels), any_in(pixels), any_out(pixels), near(pixels);
-  for (size_t p = 0; p < pixels; ++p) mask[p] = ids.ids[p] == label;
-  window_any_in_rows(mask.data(), w, h, radius, any_in.data(), any_out.data());
+std::vector<uint8_t> near_outline(std::span<const uint8_t> inside, int width, int height,
+                                  int radius) {
+  const int w = width, h = height;
+  const size_t pixels = inside.size();
+  if (pixels != size_t(w) * size_t(h)) throw std::invalid_argument("near_outline: sizes differ");
+  std::vector<uint8_t> any_in(pixels), any_out(pixels), near(pixels);
+  window_any_in_rows(inside.data(), w, h, radius, any_in.data(), any_out.data());
   // Then down the columns: a pixel is near the outline when its square
   // window holds both values.
   for (int y = 0; y < h; ++y) {
@@ -237,14 +238,18 @@ double object_loss(std::span<const float> maps, const std::vector<int32_t>& labe
   // plane's sum stays one loop, so the loss is the same double whatever the
   // threads.
   const bool generalized = pixel_loss.kind == PixelLoss::Kind::kGeneralized;
-  const bool banded = generalized && pixel_loss.edge_band > 0;
+  const bool banded = generalized && pixel_loss.outline_band > 0;
   const double q = pixel_loss.q;
   std::vector<double> sums(m);
   tbb::parallel_for(size_t(0), m, [&](size_t j) {
     const float* S = &maps[j * pixels];
-    const std::vector<uint8_t> near_outline =
-        banded ? near_mask_outline(ids, labels[j], pixel_loss.edge_band) : std::vector<uint8_t>{};
-    const uint8_t* cross_entropy_at = banded ? near_outline.data() : nullptr;
+    std::vector<uint8_t> near_model_outline;
+    if (banded) {
+      std::vector<uint8_t> inside(pixels);
+      for (size_t p = 0; p < pixels; ++p) inside[p] = S[p] >= pixel_loss.mask_threshold;
+      near_model_outline = near_outline(inside, ids.width, ids.height, pixel_loss.outline_band);
+    }
+    const uint8_t* cross_entropy_at = banded ? near_model_outline.data() : nullptr;
     if (grad)
       tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const auto& r) {
         const size_t at = r.begin();

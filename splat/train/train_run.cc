@@ -184,8 +184,8 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
     m["object_loss"] = pixel.kind == PixelLoss::Kind::kGeneralized
                            ? json{{"pixel_loss", "generalized cross-entropy"}, {"q", pixel.q}}
                            : json{{"pixel_loss", "cross-entropy"}};
-    if (pixel.kind == PixelLoss::Kind::kGeneralized && pixel.edge_band > 0)
-      m["object_loss"]["cross_entropy_near_outline"] = pixel.edge_band;
+    if (pixel.kind == PixelLoss::Kind::kGeneralized && pixel.outline_band > 0)
+      m["object_loss"]["cross_entropy_near_model_outline"] = pixel.outline_band;
     if (!o.train.object_loss.reshapes_geometry) m["object_loss"]["reshapes_geometry"] = false;
   }
   // What of the fast recipe made the model (none of it in the paper's).

@@ -50,14 +50,16 @@ TEST(ObjectLoss, GradientMatchesFiniteDifferences) {
 // the binary cross-entropy, against which object_loss (which skips the
 // logarithms of clamped values) must agree to the last bit, or the
 // generalized cross-entropy (1 - p^q) / q with p = S where B, else 1 - S,
-// and with an edge band the cross-entropy at the pixels whose square window
-// of that radius holds both mask values (searched here pixel by pixel).
-bool near_outline_by_search(const IdMap& ids, int32_t label, size_t pixel, int radius) {
-  const int x0 = int(pixel % size_t(ids.width)), y0 = int(pixel / size_t(ids.width));
-  const bool b = ids.at(x0, y0) == label;
-  for (int y = std::max(0, y0 - radius); y <= std::min(ids.height - 1, y0 + radius); ++y)
-    for (int x = std::max(0, x0 - radius); x <= std::min(ids.width - 1, x0 + radius); ++x)
-      if ((ids.at(x, y) == label) != b) return true;
+// and with an outline band the cross-entropy at the pixels whose square
+// window of that radius holds both values of the model's mask S >= tau
+// (searched here pixel by pixel).
+bool near_outline_by_search(const float* S, int width, int height, float tau, size_t pixel,
+                            int radius) {
+  const int x0 = int(pixel % size_t(width)), y0 = int(pixel / size_t(width));
+  const bool b = S[pixel] >= tau;
+  for (int y = std::max(0, y0 - radius); y <= std::min(height - 1, y0 + radius); ++y)
+    for (int x = std::max(0, x0 - radius); x <= std::min(width - 1, x0 + radius); ++x)
+      if ((S[size_t(y) * width + x] >= tau) != b) return true;
   return false;
 }
 
@@ -75,9 +77,10 @@ double reference_object_loss(const std::vector<float>& maps, const std::vector<i
       const double b = ids.ids[p] == labels[j] ? 1.0 : 0.0;
       const double s = std::clamp(double(S), eps, 1 - eps);
       const double prob = b ? s : 1 - s;
-      const bool generalized =
-          loss.kind == PixelLoss::Kind::kGeneralized &&
-          !(loss.edge_band > 0 && near_outline_by_search(ids, labels[j], p, loss.edge_band));
+      const bool generalized = loss.kind == PixelLoss::Kind::kGeneralized &&
+                               !(loss.outline_band > 0 &&
+                                 near_outline_by_search(&maps[j * pixels], ids.width, ids.height,
+                                                        loss.mask_threshold, p, loss.outline_band));
       if (generalized)
         sum += (1 - std::pow(prob, q)) / q;
       else
@@ -118,8 +121,16 @@ TEST(ObjectLoss, EqualsThePerPixelFormulaExactly) {
   EXPECT_EQ(grad, expected_grad);
 }
 
+// near_outline of the model's mask S >= 0.5 of one plane.
+std::vector<uint8_t> near_outline_by_model(const std::vector<float>& S, const IdMap& ids,
+                                           int radius) {
+  std::vector<uint8_t> inside(S.size());
+  for (size_t p = 0; p < S.size(); ++p) inside[p] = S[p] >= 0.5f;
+  return near_outline(inside, ids.width, ids.height, radius);
+}
+
 PixelLoss generalized(double q) { return {PixelLoss::Kind::kGeneralized, q}; }
-PixelLoss generalized_in_interior(double q, int band) {
+PixelLoss generalized_off_outline(double q, int band) {
   return {PixelLoss::Kind::kGeneralized, q, band};
 }
 
@@ -128,8 +139,8 @@ TEST(ObjectLoss, GeneralizedLossesEqualTheirPerPixelFormula) {
   const auto& [ids, labels, maps] = c;
   for (double q : {0.7, 0.3, 1.0})
     for (const PixelLoss& pixel_loss :
-         {generalized(q), generalized_in_interior(q, 1), generalized_in_interior(q, 3)}) {
-      const int kind = pixel_loss.edge_band;
+         {generalized(q), generalized_off_outline(q, 1), generalized_off_outline(q, 3)}) {
+      const int kind = pixel_loss.outline_band;
       std::vector<float> grad, expected_grad;
       const double loss = object_loss(maps, labels, ids, 0.1f, &grad, pixel_loss);
       EXPECT_NEAR(loss, reference_object_loss(maps, labels, ids, 0.1f, expected_grad, pixel_loss),
@@ -144,32 +155,56 @@ TEST(ObjectLoss, GeneralizedLossesEqualTheirPerPixelFormula) {
 
 TEST(ObjectLoss, GeneralizedGradientsMatchFiniteDifferences) {
   expect_gradient_matches_finite_differences(generalized(0.7), 2e-3);
-  expect_gradient_matches_finite_differences(generalized_in_interior(0.7, 2), 2e-3);
+  expect_gradient_matches_finite_differences(generalized_off_outline(0.7, 2), 2e-3);
 }
 
-// A square of an object in a 12 x 10 map: the pixels near its outline are
-// those within the radius of both sides; with the edge band the loss there is
-// the paper's to the last bit of the gradient, elsewhere the generalized one.
-TEST(ObjectLoss, TheEdgeBandIsThePapersLossNearTheOutline) {
-  IdMap ids(12, 10);
+// A square of an object in a 12 x 10 image: the pixels near its outline are
+// those within the radius of both sides.
+TEST(ObjectLoss, NearOutlineIsTheBandOnBothSidesOfTheOutline) {
+  const int w = 12, h = 10;
+  std::vector<uint8_t> inside(size_t(w * h), 0);
+  std::vector<float> S(inside.size(), 0.f);
   for (int y = 3; y < 8; ++y)
-    for (int x = 2; x < 9; ++x) ids.at(x, y) = 4;
-  const std::vector<uint8_t> near = near_mask_outline(ids, 4, 1);
+    for (int x = 2; x < 9; ++x) inside[size_t(y * w + x)] = 1, S[size_t(y * w + x)] = 1.f;
+  const std::vector<uint8_t> near = near_outline(inside, w, h, 1);
   for (size_t p = 0; p < near.size(); ++p)
-    EXPECT_EQ(bool(near[p]), near_outline_by_search(ids, 4, p, 1)) << p;
-  EXPECT_TRUE(near[size_t(3 * 12 + 2)]);   // the square's corner
-  EXPECT_TRUE(near[size_t(2 * 12 + 1)]);   // the pixel outside it, diagonally
-  EXPECT_FALSE(near[size_t(5 * 12 + 5)]);  // its middle
-  EXPECT_FALSE(near[size_t(0)]);           // far outside
+    EXPECT_EQ(bool(near[p]), near_outline_by_search(S.data(), w, h, 0.5f, p, 1)) << p;
+  EXPECT_TRUE(near[size_t(3 * w + 2)]);   // the square's corner
+  EXPECT_TRUE(near[size_t(2 * w + 1)]);   // the pixel outside it, diagonally
+  EXPECT_FALSE(near[size_t(5 * w + 5)]);  // its middle
+  EXPECT_FALSE(near[size_t(0)]);          // far outside
+  EXPECT_THROW(near_outline(inside, w, h - 1, 1), std::invalid_argument);
+}
+
+// The band follows the model's mask (S >= tau), not the view's: here the
+// model draws a square and the view's mask misses a blob inside it and
+// leaks outside it. Near the square's outline the loss is the paper's to the
+// last bit of the gradient; on the miss and the leak, away from it, the
+// generalized one.
+TEST(ObjectLoss, TheOutlineBandIsThePapersLossNearTheModelsOutline) {
+  IdMap ids(16, 12);
   std::vector<float> maps(ids.ids.size());
   std::mt19937 rng(3);
-  for (float& v : maps) v = std::uniform_real_distribution<float>(0.01f, 0.99f)(rng);
+  for (int y = 0; y < ids.height; ++y)
+    for (int x = 0; x < ids.width; ++x) {
+      const bool in_square = x >= 3 && x < 12 && y >= 2 && y < 10;
+      maps[size_t(y * ids.width + x)] =
+          std::uniform_real_distribution<float>(0.01f, 0.49f)(rng) + (in_square ? 0.5f : 0.f);
+      const bool missed = x >= 6 && x < 9 && y >= 5 && y < 7, leaked = x >= 14 && y >= 4;
+      if ((in_square && !missed) || leaked) ids.at(x, y) = 4;
+    }
+  const std::vector<uint8_t> near = near_outline_by_model(maps, ids, 1);
   std::vector<float> paper, banded, robust;
   object_loss(maps, {4}, ids, 0.1f, &paper);
-  object_loss(maps, {4}, ids, 0.1f, &banded, generalized_in_interior(0.7, 1));
+  object_loss(maps, {4}, ids, 0.1f, &banded, generalized_off_outline(0.7, 1));
   object_loss(maps, {4}, ids, 0.1f, &robust, generalized(0.7));
   for (size_t p = 0; p < maps.size(); ++p)
     EXPECT_EQ(banded[p], near[p] ? paper[p] : robust[p]) << p;
+  const auto at = [&](int x, int y) { return size_t(y * ids.width + x); };
+  EXPECT_TRUE(near[at(3, 2)]);    // the square's corner
+  EXPECT_FALSE(near[at(7, 5)]);   // the missed blob
+  EXPECT_FALSE(near[at(15, 8)]);  // the leak
+  EXPECT_NE(banded[at(7, 5)], paper[at(7, 5)]);
 }
 
 TEST(ObjectLoss, TheDefaultIsThePapersCrossEntropy) {
@@ -215,7 +250,7 @@ TEST(ObjectLoss, NeitherLossMovesAnOccupancyThatIsItsMask) {
   std::vector<float> maps;
   for (int32_t label : {1, 2})
     for (uint16_t id : ids.ids) maps.push_back(id == label ? 1.f : 0.f);
-  for (const PixelLoss& loss : {PixelLoss{}, generalized(0.7), generalized_in_interior(0.7, 1)}) {
+  for (const PixelLoss& loss : {PixelLoss{}, generalized(0.7), generalized_off_outline(0.7, 1)}) {
     std::vector<float> grad;
     object_loss(maps, {1, 2}, ids, 0.1f, &grad, loss);
     EXPECT_EQ(grad, std::vector<float>(maps.size(), 0.f));
