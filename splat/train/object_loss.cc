@@ -212,10 +212,12 @@ std::vector<uint8_t> near_outline(std::span<const uint8_t> inside, int width, in
   window_any_in_rows(inside.data(), w, h, radius, any_in.data(), any_out.data());
   // Then down the columns: a pixel is near the outline when its square
   // window holds both values.
+  std::vector<uint8_t> in_column(w), out_column(w);
   for (int y = 0; y < h; ++y) {
     const int from = std::max(0, y - radius), to = std::min(h - 1, y + radius);
     uint8_t* n = near.data() + size_t(y) * w;
-    std::vector<uint8_t> in_column(w, 0), out_column(w, 0);
+    std::fill(in_column.begin(), in_column.end(), 0);
+    std::fill(out_column.begin(), out_column.end(), 0);
     for (int k = from; k <= to; ++k)
       for (int x = 0; x < w; ++x) {
         in_column[x] |= any_in[size_t(k) * w + x];
