@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
 #include "splat/atomic_file.h"
@@ -180,51 +181,25 @@ double generalized_loss_sum(const float* S, const uint16_t* ids, int32_t label, 
   return sum;
 }
 
-// Per row, whether the window of 2 radius + 1 pixels around each pixel holds
-// a pixel of the mask (any_in) and one outside it (any_out).
-void window_any_in_rows(const uint8_t* in, int width, int height, int radius, uint8_t* any_in,
-                        uint8_t* any_out) {
-  for (int y = 0; y < height; ++y) {
-    const uint8_t* row = in + size_t(y) * width;
-    uint8_t* i = any_in + size_t(y) * width;
-    uint8_t* o = any_out + size_t(y) * width;
-    for (int x = 0; x < width; ++x) {
-      const int from = std::max(0, x - radius), to = std::min(width - 1, x + radius);
-      uint8_t seen_in = 0, seen_out = 0;
-      for (int k = from; k <= to; ++k) {
-        seen_in |= row[k];
-        seen_out |= row[k] ^ 1;
-      }
-      i[x] = seen_in;
-      o[x] = seen_out;
-    }
-  }
-}
-
 }  // namespace
 
 std::vector<uint8_t> near_outline(std::span<const uint8_t> inside, int width, int height,
                                   int radius) {
-  const int w = width, h = height;
   const size_t pixels = inside.size();
-  if (pixels != size_t(w) * size_t(h)) throw std::invalid_argument("near_outline: sizes differ");
-  std::vector<uint8_t> any_in(pixels), any_out(pixels), near(pixels);
-  window_any_in_rows(inside.data(), w, h, radius, any_in.data(), any_out.data());
-  // Then down the columns: a pixel is near the outline when its square
-  // window holds both values.
-  std::vector<uint8_t> in_column(w), out_column(w);
-  for (int y = 0; y < h; ++y) {
-    const int from = std::max(0, y - radius), to = std::min(h - 1, y + radius);
-    uint8_t* n = near.data() + size_t(y) * w;
-    std::fill(in_column.begin(), in_column.end(), 0);
-    std::fill(out_column.begin(), out_column.end(), 0);
-    for (int k = from; k <= to; ++k)
-      for (int x = 0; x < w; ++x) {
-        in_column[x] |= any_in[size_t(k) * w + x];
-        out_column[x] |= any_out[size_t(k) * w + x];
-      }
-    for (int x = 0; x < w; ++x) n[x] = in_column[x] & out_column[x];
-  }
+  if (pixels != size_t(width) * size_t(height))
+    throw std::invalid_argument("near_outline: sizes differ");
+  if (pixels == 0) return {};
+  // The square window holds a pixel inside where the dilation is 1, and one
+  // outside where the erosion is 0; OpenCV's default border leaves pixels
+  // off the image out of both.
+  const cv::Mat in(height, width, CV_8U, const_cast<uint8_t*>(inside.data()));
+  const cv::Mat window =
+      cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * radius + 1, 2 * radius + 1));
+  cv::Mat any_in, all_in;
+  cv::dilate(in, any_in, window);
+  cv::erode(in, all_in, window);
+  std::vector<uint8_t> near(pixels);
+  for (size_t p = 0; p < pixels; ++p) near[p] = any_in.data[p] & (all_in.data[p] ^ 1);
   return near;
 }
 
