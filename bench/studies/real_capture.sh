@@ -38,7 +38,9 @@
 # TRAIN_OPTS (op2gs-train's options, e.g. "--recipe fast"), VOTE_OPTS
 # (op2gs-vote's options for every variant, e.g. the track remedies
 # "--join-switched-ids --find-merges"; name the variants for them, since a
-# variant's run folder is <condition>-<name>).
+# variant's run folder is <condition>-<name>), RESTART (1: stage one starts
+# over; otherwise an unfinished one continues from its latest checkpoint and
+# a finished one is reused, so give each schedule its own out dir).
 set -euo pipefail
 build="$(cd "$1" && pwd)"
 capture="$(cd "$2" && pwd)"
@@ -162,11 +164,19 @@ if [ ! -f "$work/stamp.sfm" ]; then
 fi
 one="$work/stage-one"
 if [ ! -f "$one/metrics.json" ]; then
-  echo "== $name: stage one, $stage_one of $iterations iterations"
-  rm -rf "$one"
+  # An interrupted stage one (hours at the full schedule) continues from its
+  # latest checkpoint (every 1,000 iterations); RESTART=1 starts it over.
+  resume=()
+  if [ "${RESTART:-0}" != 1 ] && [ -f "$one/checkpoints/latest.ckpt" ]; then
+    resume=(--resume)
+    echo "== $name: stage one, continuing to $stage_one of $iterations iterations"
+  else
+    rm -rf "$one"
+    echo "== $name: stage one, $stage_one of $iterations iterations"
+  fi
   # shellcheck disable=SC2086
-  step train "$bin/op2gs-train" "$scene" "$one" --resolution "$resolution" --split lerf \
-    --iterations "$stage_one" --schedule "$iterations" ${TRAIN_OPTS:-}
+  step train "$bin/op2gs-train" "$scene" "$one" "${resume[@]}" --resolution "$resolution" \
+    --split lerf --iterations "$stage_one" --schedule "$iterations" ${TRAIN_OPTS:-}
 fi
 
 # ------------------------------------------------ 4. conditions and variants
