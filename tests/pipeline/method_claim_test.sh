@@ -4,7 +4,7 @@
 # (sigma*) beat those of the baseline of the same model (the voted labels
 # rendered with sigma) by at least a margin, in mIoU and in mBIoU (oracle
 # mode, the LERF-Mask protocol). The margins are half the smallest margin
-# measured over five seeds (docs/benchmarks.md, "The method's claim in CI").
+# measured over five seeds (the figures below).
 # Usage: method_claim_test.sh BIN_DIR [SEED]   (prints both scores and margins)
 source "$(dirname "${BASH_SOURCE[0]}")/test_lib.sh" "$1"
 seed="${2:-1}"
