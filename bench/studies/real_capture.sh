@@ -38,9 +38,10 @@
 # TRAIN_OPTS (op2gs-train's options, e.g. "--recipe fast"), VOTE_OPTS
 # (op2gs-vote's options for every variant, e.g. the track remedies
 # "--join-switched-ids --find-merges"; name the variants for them, since a
-# variant's run folder is <condition>-<name>), RESTART (1: stage one starts
-# over; otherwise an unfinished one continues from its latest checkpoint and
-# a finished one is reused, so give each schedule its own out dir).
+# variant's run folder is <condition>-<name>), RESTART (1: start over;
+# otherwise an unfinished stage one or stage two continues from its latest
+# checkpoint, a finished stage one is reused, so give each schedule its own
+# out dir, and a finished stage two is done again).
 set -euo pipefail
 build="$(cd "$1" && pwd)"
 capture="$(cd "$2" && pwd)"
@@ -188,13 +189,22 @@ for condition in $conditions; do
     [[ "$variant" == *=* ]] && IFS=, read -r -a options <<< "${variant#*=}"
     run="$work/$condition-$label"
     echo "== $name: $condition masks, $label ${options[*]:-} ${vote_options[*]:-}"
-    rm -rf "$run"
-    cp -r "$one" "$run"
     common=(--resolution "$resolution" --split lerf --id-maps "$maps")
-    step "$condition-$label-vote" "$bin/op2gs-vote" "$scene" "$run" "${common[@]}" \
-      "${vote_options[@]}"
-    step "$condition-$label-learn" "$bin/op2gs-learn" "$scene" "$run" "${common[@]}" \
-      --iterations "$iterations" --schedule "$iterations" "${options[@]}"
+    learn_resume=()
+    # A stage two cut off before its end continues from its latest
+    # checkpoint; a finished run is done again.
+    if [ "${RESTART:-0}" != 1 ] && [ -f "$run/learn/checkpoints/latest.ckpt" ] &&
+      [ ! -f "$run/learn/metrics.json" ]; then
+      learn_resume=(--resume)
+      echo "   continuing its stage two"
+    else
+      rm -rf "$run"
+      cp -r "$one" "$run"
+      step "$condition-$label-vote" "$bin/op2gs-vote" "$scene" "$run" "${common[@]}" \
+        "${vote_options[@]}"
+    fi
+    step "$condition-$label-learn" "$bin/op2gs-learn" "$scene" "$run" "${learn_resume[@]}" \
+      "${common[@]}" --iterations "$iterations" --schedule "$iterations" "${options[@]}"
     step "$condition-$label-render" "$bin/op2gs-render" "$scene" "$run" --resolution "$resolution" \
       --split lerf
     step "$condition-$label-eval" "$bin/op2gs-eval" "$scene" --protocol lerf \
