@@ -1,7 +1,7 @@
 # shellcheck shell=bash disable=SC2154
 # Shared by the bench scripts that time op2gs's training steps
-# (opensplat_ab.sh, thread_scaling.sh): sourced, not run. The sourcing
-# script sets `logs`, the folder its steps' logs go to.
+# (opensplat_ab.sh, thread_scaling.sh, stage_two_cost.sh): sourced, not
+# run. The sourcing script sets `logs`, the folder its steps' logs go to.
 
 # Stops the script with a one-line message.
 fail() {
@@ -35,5 +35,5 @@ op2gs_seconds() {  # LOG FIRST LAST
     median
 }
 
-# The Gaussians of an op2gs run's last logged step.
-op2gs_gaussians() { tail -1 "$1" | sed -E 's/.*"gaussians":([0-9]+).*/\1/'; }
+# The Gaussians of an op2gs run's last logged step (a test line has none).
+op2gs_gaussians() { grep '"gaussians"' "$1" | tail -1 | sed -E 's/.*"gaussians":([0-9]+).*/\1/'; }
