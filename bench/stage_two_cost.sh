@@ -96,7 +96,8 @@ for round in $(seq "$rounds"); do
   fi
   for variant in "${order[@]}"; do
     name="${variant%%=*}"
-    read -r seconds mib <<< "$(run_variant "$variant" "round${round}_$name")"
+    timing="$(run_variant "$variant" "round${round}_$name")"  # a failed run stops the script here
+    read -r seconds mib <<< "$timing"
     echo "round $round, $name: $seconds s/it, peak $mib MiB"
     printf '{"variant":"%s","round":%d,"s_per_iteration":%s,"peak_mib":%s}\n' \
       "$name" "$round" "$seconds" "$mib" >> "$results"
