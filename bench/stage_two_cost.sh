@@ -3,8 +3,7 @@
 # (docs/benchmarks.md, "Stage two's cost"): from one stage-one checkpoint and
 # one op2gs-vote labelled model, each variant runs STEPS iterations in a
 # fresh folder; every round runs the variants in turn, every other round in
-# the reverse order, so that the machine's drift and a run's own slowing
-# over its first minutes hit every variant alike.
+# the reverse order, so that the machine's drift hits every variant alike.
 #
 #   bench/stage_two_cost.sh <op2gs build dir> <scene folder> <voted work folder> <out dir>
 #
@@ -16,10 +15,11 @@
 # "stage-one" is op2gs-train resumed from the checkpoint (densification
 # over), any other "label=options" op2gs-learn with those options (commas
 # between words); default "stage-one continued=--lambda-o,0
-# paper=--recipe,paper robust-outline=--recipe,robust-outline". LEARN_OPTS:
-# the scene's options for both stages, e.g. "--resolution 2 --split lerf"
-# (op2gs-learn's --id-maps goes in ID_MAPS: object_mask_sam2like). STEPS
-# (1000), ROUNDS (2), SCHEDULE (30000).
+# paper=--recipe,paper robust-outline=--recipe,robust-outline". TRAIN_OPTS
+# (the scene's options, both stages, e.g. "--resolution 2 --split lerf"),
+# LEARN_OPTS (op2gs-learn's alone, e.g. "--id-maps object_mask_sam2like"),
+# as bench/thread_scaling.sh takes them. STEPS (1000), ROUNDS (2), SCHEDULE
+# (30000).
 # Each run's time per iteration is the median step of its train_log.jsonl
 # after its first 10 (bench/timing.sh); its peak memory is the stage's own
 # report. Each run's log and train_log.jsonl stay in OUT/logs/. Any failing
@@ -33,9 +33,8 @@ build="$(cd "$1" && pwd)"
 scene="$(cd "$2" && pwd)"
 model="$(cd "$3" && pwd)"
 out="$4"
-read -r -a scene_opts <<< "${LEARN_OPTS:-}"
-id_maps=()
-[ -z "${ID_MAPS:-}" ] || id_maps=(--id-maps "$ID_MAPS")
+read -r -a train_opts <<< "${TRAIN_OPTS:-}"
+read -r -a learn_opts <<< "${LEARN_OPTS:-}"
 read -r -a variants <<< "${VARIANTS:-stage-one continued=--lambda-o,0 paper=--recipe,paper robust-outline=--recipe,robust-outline}"
 steps="${STEPS:-1000}"
 rounds="${ROUNDS:-2}"
@@ -58,7 +57,7 @@ start=$(tail -1 "$model/train_log.jsonl" | sed -E 's/.*"iteration":([0-9]+).*/\1
 end=$((start + steps))
 [ "$steps" -gt 20 ] || fail "STEPS: $steps is too few (at least 21: the first 10 are left out)"
 
-common=("$scene" "${scene_opts[@]}" --iterations "$end" --schedule "$schedule" --no-final-test
+common=("$scene" "${train_opts[@]}" --iterations "$end" --schedule "$schedule" --no-final-test
   --checkpoint-every 100000000)
 
 # Runs one variant in a fresh folder; prints "seconds-per-iteration peak-MiB".
@@ -74,7 +73,7 @@ run_variant() {  # VARIANT LABEL
       "${options[@]}"
     log="$work/train_log.jsonl"
   else
-    step "$label" "$bin/op2gs-learn" "${common[@]}" "$work" "${id_maps[@]}" \
+    step "$label" "$bin/op2gs-learn" "${common[@]}" "$work" "${learn_opts[@]}" \
       --checkpoint "$checkpoint" --labels "$labels" "${options[@]}"
     log="$work/learn/train_log.jsonl"
   fi
