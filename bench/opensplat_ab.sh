@@ -149,11 +149,8 @@ for round in $(seq "$rounds"); do
     "$(opensplat_seconds "$out/logs/early_opensplat_$round.log" "$steps")" "$(op2gs_gaussians "$log")"
 
   # Late: from the trained model.
-  rm -rf "$out/late_op2gs"
-  mkdir -p "$out/late_op2gs/checkpoints"
-  ln -s "$model/checkpoints/latest.ckpt" "$out/late_op2gs/checkpoints/latest.ckpt"
-  step "late_op2gs_$round" "$train" "${op2gs_common[@]}" "$out/late_op2gs" --resume \
-    --iterations "$end" --densify-until "$late_at"
+  resume_in_fresh_folder "late_op2gs_$round" "$model/checkpoints/latest.ckpt" "$out/late_op2gs" \
+    "$train" "${op2gs_common[@]}" --iterations "$end" --densify-until "$late_at"
   log="$out/late_op2gs/train_log.jsonl"
   record late op2gs every-step "$round" "$(op2gs_seconds "$log" $((late_at + 1)) "$end")" \
     "$(op2gs_gaussians "$log")"

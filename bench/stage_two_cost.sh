@@ -64,15 +64,12 @@ common=("$scene" "${train_opts[@]}" --iterations "$end" --schedule "$schedule" -
 run_variant() {  # VARIANT LABEL
   local variant="$1" label="$2" work="$out/run" options=() log
   [[ "$variant" == *=* ]] && IFS=, read -r -a options <<< "${variant#*=}"
-  rm -rf "$work"
-  mkdir -p "$work/checkpoints"
   if [ "${variant%%=*}" = stage-one ]; then
-    # Its own checkpoints replace the link by renaming, never write through it.
-    ln -s "$checkpoint" "$work/checkpoints/latest.ckpt"
-    step "$label" "$bin/op2gs-train" "${common[@]}" "$work" --resume --densify-until "$start" \
-      "${options[@]}"
+    resume_in_fresh_folder "$label" "$checkpoint" "$work" "$bin/op2gs-train" "${common[@]}" \
+      --densify-until "$start" "${options[@]}"
     log="$work/train_log.jsonl"
   else
+    rm -rf "$work"
     step "$label" "$bin/op2gs-learn" "${common[@]}" "$work" "${learn_opts[@]}" \
       --checkpoint "$checkpoint" --labels "$labels" "${options[@]}"
     log="$work/learn/train_log.jsonl"

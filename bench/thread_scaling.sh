@@ -70,10 +70,9 @@ run_phase() {  # PHASE THREADS LABEL
       op2gs_seconds "$work/train_log.jsonl" 1 "$steps"
       ;;
     late)
-      mkdir -p "$work/checkpoints"
-      ln -s "$model/checkpoints/latest.ckpt" "$work/checkpoints/latest.ckpt"
-      step "$label" "$bin/op2gs-train" "${common[@]}" "$work" --threads "$threads" --resume \
-        --iterations "$end" --densify-until "$late_at"
+      resume_in_fresh_folder "$label" "$model/checkpoints/latest.ckpt" "$work" \
+        "$bin/op2gs-train" "${common[@]}" --threads "$threads" --iterations "$end" \
+        --densify-until "$late_at"
       op2gs_seconds "$work/train_log.jsonl" $((late_at + 1)) "$end"
       ;;
     stage-two)

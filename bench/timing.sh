@@ -20,6 +20,20 @@ step() {
   fi
 }
 
+# Runs op2gs-train as step LABEL in a fresh folder WORK, resumed from
+# CHECKPOINT; COMMAND... is the binary and its arguments, WORK left out.
+# --resume reads WORK/checkpoints/latest.ckpt, here a link to CHECKPOINT:
+# the run's own checkpoints replace the link by renaming, never write
+# through it.
+resume_in_fresh_folder() {  # LABEL CHECKPOINT WORK COMMAND...
+  local label="$1" checkpoint="$2" work="$3"
+  shift 3
+  rm -rf "$work"
+  mkdir -p "$work/checkpoints"
+  ln -s "$checkpoint" "$work/checkpoints/latest.ckpt"
+  step "$label" "$@" "$work" --resume
+}
+
 # The median of the numbers on stdin, one a line; fails on none.
 median() { sort -g | awk '{ a[NR] = $1 } END { if (NR == 0) exit 1; print a[int((NR + 1) / 2)] }'; }
 
