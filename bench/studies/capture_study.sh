@@ -20,8 +20,9 @@
 # one value changed from the paper's: lambda-<lambda_o>, m-<M>, tau-<tau>,
 # init-<sigma* of every Gaussian at the start of stage two>; and for the
 # spread of stage two alone, plain-seed-<n> (op2gs-learn --seed n: another
-# order of the views, other objects sampled), and robust-outline-seed-<n> the
-# same for --recipe robust-outline. Pose variants:
+# order of the views, other objects sampled), and robust-seed-<n> and
+# robust-outline-seed-<n> the same for --recipe robust and robust-outline.
+# Pose variants:
 # fit (op2gs-render --fit-poses: the test views' cameras fitted to their
 # photos), poses (and op2gs-train --refine-poses), poses+tracks,
 # exposure+poses+tracks. The fast recipe: fast (op2gs-train --recipe fast,
@@ -94,6 +95,7 @@ for condition in "$@"; do
         tau-*) render_options=(--tau "${variant#tau-}") ;;
         init-*) learn_options=(--sigma-star-init "${variant#init-}") ;;
         plain-seed-*) learn_options=(--seed "${variant#plain-seed-}") ;;
+        robust-seed-*) learn_options=(--recipe robust --seed "${variant#robust-seed-}") ;;
         robust-outline-seed-*)
           learn_options=(--recipe robust-outline --seed "${variant#robust-outline-seed-}")
           ;;
