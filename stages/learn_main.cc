@@ -67,13 +67,7 @@ int main(int argc, char** argv) {
                  "masks instead of their mean, so a segmenter's misses and leaks in some views "
                  "are outvoted, as the vote outvotes them; robust-outline: the same, but the "
                  "paper's loss within 3 pixels of the outline of the model's own mask of the "
-                 "object, where the generalized loss dilates the masks (an experiment); "
-                 "bootstrap: the cross-entropy towards a mix of the view's mask and the model's "
-                 "own (--bootstrap-beta), so that an outline the views disagree on keeps the "
-                 "model's side (an experiment)")
-      ->capture_default_str();
-  app.add_option("--bootstrap-beta", o.train.object_loss.pixel_loss.beta,
-                 "the view's mask's weight in the target of --recipe bootstrap, in [0, 1]")
+                 "object, where the generalized loss dilates the masks (an experiment)")
       ->capture_default_str();
   app.add_option("--gce-q", o.train.object_loss.pixel_loss.q,
                  "q of the generalized cross-entropy (--recipe robust, robust-outline), in (0, 1]")
@@ -87,8 +81,7 @@ int main(int argc, char** argv) {
         "--recipe", recipe,
         {{"paper", splat::PixelLoss::Kind::kCrossEntropy},
          {"robust", splat::PixelLoss::Kind::kGeneralized},
-         {"robust-outline", splat::PixelLoss::Kind::kGeneralized},
-         {"bootstrap", splat::PixelLoss::Kind::kBootstrapped}});
+         {"robust-outline", splat::PixelLoss::Kind::kGeneralized}});
     // The masks' outline error is a jitter of a few pixels whatever the
     // object's size (docs/synthetic.md): 3 pixels, fixed before any run.
     if (recipe == "robust-outline") o.train.object_loss.pixel_loss.outline_band = 3;

@@ -14,8 +14,7 @@
 # spaces: clean=  exposure=--exposure,0.25,--white-balance,0.03
 # Variants (VARIANTS, default "plain"): plain (the paper's recipe), robust
 # (op2gs-learn --recipe robust: the generalized cross-entropy),
-# robust-outline (op2gs-learn --recipe robust-outline), bootstrap
-# (op2gs-learn --recipe bootstrap), joined
+# robust-outline (op2gs-learn --recipe robust-outline), joined
 # (op2gs-vote --join-switched-ids), tracks (and --find-merges), exposure
 # (op2gs-train --exposure-compensation), exposure+joined, exposure+tracks; and for the sensitivity study,
 # one value changed from the paper's: lambda-<lambda_o>, m-<M>, tau-<tau>,
@@ -87,7 +86,6 @@ for condition in "$@"; do
         plain) ;;
         robust) learn_options=(--recipe robust) ;;
         robust-outline) learn_options=(--recipe robust-outline) ;;
-        bootstrap) learn_options=(--recipe bootstrap) ;;
         fast)
           train_options=(--recipe fast)
           learn_options=(--sparse-adam --half-views-from 1)

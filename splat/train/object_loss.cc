@@ -50,11 +50,6 @@ void ObjectLossOptions::Check() const {
     throw std::invalid_argument("the protected label agreement must be in [0, 1]");
   if (pixel_loss.kind == PixelLoss::Kind::kGeneralized && !(pixel_loss.q > 0 && pixel_loss.q <= 1))
     throw std::invalid_argument("the generalized cross-entropy's q must be in (0, 1]");
-  if (pixel_loss.kind == PixelLoss::Kind::kBootstrapped &&
-      !(pixel_loss.beta >= 0 && pixel_loss.beta <= 1))
-    throw std::invalid_argument("the bootstrapped loss's beta must be in [0, 1]");
-  if (!(pixel_loss.mask_threshold > 0 && pixel_loss.mask_threshold < 1))
-    throw std::invalid_argument("the mask threshold must be in (0, 1)");
   if (pixel_loss.outline_band < 0) throw std::invalid_argument("the outline band must be >= 0");
   if (protected_agreement > 0 && label_agreement.empty())
     throw std::invalid_argument("protecting sigma* needs op2gs-vote's label agreement file");
@@ -186,47 +181,6 @@ double generalized_loss_sum(const float* S, const uint16_t* ids, int32_t label, 
   return sum;
 }
 
-// The bootstrapped loss (PixelLoss): weight * scale * dLoss/dS of one
-// plane, the cross-entropy's (s - t) / (s (1 - s)) with its target t =
-// beta b + (1 - beta) [S >= tau] held fixed; zero where the clamp is active.
-void bootstrapped_loss_gradient(const float* S, const uint16_t* ids, int32_t label, size_t pixels,
-                                double weight_scale, double beta, float tau, float* g) {
-  for (size_t p = 0; p < pixels; ++p) {
-    if (!(S[p] > kLow && S[p] < kHigh)) {
-      g[p] = 0.f;
-      continue;
-    }
-    const double s = S[p];
-    const double t = beta * double(ids[p] == label) + (1 - beta) * double(S[p] >= tau);
-    g[p] = float(weight_scale * (s - t) / (s * (1 - s)));
-  }
-}
-
-// The sum over one plane of -[t log s + (1 - t) log(1 - s)], s clamped, t
-// as above. Where the clamp is active (most pixels) the model's mask is 0
-// at the low bound and 1 at the high one (tau lies between them), and the
-// logarithms of the bounds are computed once.
-double bootstrapped_loss_sum(const float* S, const uint16_t* ids, int32_t label, size_t pixels,
-                             double beta, float tau) {
-  const auto loss = [](double s, double t) {
-    return -(t * std::log(s) + (1 - t) * std::log(1 - s));
-  };
-  const auto target = [beta](bool b, bool z) { return beta * double(b) + (1 - beta) * double(z); };
-  const double at_low[2] = {loss(kLow, target(false, false)), loss(kLow, target(true, false))};
-  const double at_high[2] = {loss(kHigh, target(false, true)), loss(kHigh, target(true, true))};
-  double sum = 0;
-  for (size_t p = 0; p < pixels; ++p) {
-    const bool b = ids[p] == label;
-    if (S[p] <= kLow)
-      sum += at_low[b];
-    else if (S[p] >= kHigh)
-      sum += at_high[b];
-    else
-      sum += loss(double(S[p]), target(b, S[p] >= tau));
-  }
-  return sum;
-}
-
 }  // namespace
 
 std::vector<uint8_t> near_outline(std::span<const uint8_t> inside, int width, int height,
@@ -261,7 +215,6 @@ double object_loss(std::span<const float> maps, const std::vector<int32_t>& labe
   // plane's sum stays one loop, so the loss is the same double whatever the
   // threads.
   const bool generalized = pixel_loss.kind == PixelLoss::Kind::kGeneralized;
-  const bool bootstrapped = pixel_loss.kind == PixelLoss::Kind::kBootstrapped;
   const bool banded = generalized && pixel_loss.outline_band > 0;
   const double q = pixel_loss.q;
   std::vector<double> sums(m);
@@ -281,19 +234,12 @@ double object_loss(std::span<const float> maps, const std::vector<int32_t>& labe
         if (generalized)
           generalized_loss_gradient(S + at, &ids.ids[at], labels[j], r.size(), weight * scale, q,
                                     cross_entropy_at ? cross_entropy_at + at : nullptr, g);
-        else if (bootstrapped)
-          bootstrapped_loss_gradient(S + at, &ids.ids[at], labels[j], r.size(), weight * scale,
-                                     pixel_loss.beta, pixel_loss.mask_threshold, g);
         else
           object_loss_gradient(S + at, &ids.ids[at], labels[j], r.size(), weight * scale, g);
       });
-    if (generalized)
-      sums[j] = generalized_loss_sum(S, ids.ids.data(), labels[j], pixels, q, cross_entropy_at);
-    else if (bootstrapped)
-      sums[j] = bootstrapped_loss_sum(S, ids.ids.data(), labels[j], pixels, pixel_loss.beta,
-                                      pixel_loss.mask_threshold);
-    else
-      sums[j] = object_loss_sum(S, ids.ids.data(), labels[j], pixels);
+    sums[j] = generalized
+                  ? generalized_loss_sum(S, ids.ids.data(), labels[j], pixels, q, cross_entropy_at)
+                  : object_loss_sum(S, ids.ids.data(), labels[j], pixels);
   });
   double loss = 0;
   for (double sum : sums) loss += sum;

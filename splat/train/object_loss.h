@@ -25,10 +25,6 @@ namespace splat {
 //   kGeneralized   (1 - p^q) / q, the generalized cross-entropy of Zhang and
 //                  Sabuncu (NeurIPS 2018), q in (0, 1]: -log p as q -> 0,
 //                  the mean absolute error 1 - p at q = 1.
-//   kBootstrapped  the cross-entropy toward t = beta B + (1 - beta) Z, the
-//                  "hard bootstrapping" of Reed et al. (ICLR 2015
-//                  workshop), Z the model's own mask there (S >= tau), held
-//                  fixed in the gradient.
 //
 // Why the second: sigma* is regressed on every view's mask, and under the
 // cross-entropy a pixel whose masks say "inside" in a share r of the views
@@ -57,30 +53,14 @@ namespace splat {
 // around its own errors too (a missed blob, a leak), and a band there kept
 // the cross-entropy's pull on the holes (measured: Tracebot 001, the false
 // negatives away from the true outline).
-//
-// Why the third: the generalized loss sharpens the views' average along the
-// outline, as exact masks would, but also dilates the masks (the tail
-// above), and sharpens an error that every view makes as faithfully
-// (docs/benchmarks.md). The bootstrapped loss keeps the cross-entropy's
-// pull on every pixel, tails included, and adds a pull towards the model's
-// own decision: a pixel settles at S = beta r + (1 - beta) Z, so it keeps
-// the side of tau it is on unless the masks' share r says otherwise by a
-// margin (inside stays inside while r >= (tau - 1 + beta) / beta, 0.375 at
-// beta = 0.8; outside stays outside while r < tau / beta, 0.625). Along an
-// outline where the views disagree half and half, the model's side wins, and
-// that side comes from sigma, which the photos shaped, before sigma* moves.
-// With exact masks (r = 0 or 1) it settles at B, as the others.
 struct PixelLoss {
-  enum class Kind { kCrossEntropy, kGeneralized, kBootstrapped };
+  enum class Kind { kCrossEntropy, kGeneralized };
   Kind kind = Kind::kCrossEntropy;
   double q = 0.7;
   // kGeneralized: the cross-entropy at the pixels within this many pixels
   // (a square window) of the outline of the model's mask; 0: nowhere.
   int outline_band = 0;
   float mask_threshold = 0.5f;  // tau, the rendered masks' threshold on S_j
-  // kBootstrapped: the masks' weight in the target, in [0, 1]; 0.8, the
-  // value Reed et al. give for hard bootstrapping, fixed before any run.
-  double beta = 0.8;
 };
 
 // Per pixel of a binary image (1 inside): 1 if a pixel of the other value

@@ -181,17 +181,9 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
   json m = metrics_json(metrics, trainer.iteration(), trainer.split().rule);
   if (o.train.object_loss.weight > 0) {  // stage two: which object loss made sigma*
     const PixelLoss& pixel = o.train.object_loss.pixel_loss;
-    switch (pixel.kind) {
-      case PixelLoss::Kind::kCrossEntropy:
-        m["object_loss"] = {{"pixel_loss", "cross-entropy"}};
-        break;
-      case PixelLoss::Kind::kGeneralized:
-        m["object_loss"] = {{"pixel_loss", "generalized cross-entropy"}, {"q", pixel.q}};
-        break;
-      case PixelLoss::Kind::kBootstrapped:
-        m["object_loss"] = {{"pixel_loss", "bootstrapped cross-entropy"}, {"beta", pixel.beta}};
-        break;
-    }
+    m["object_loss"] = pixel.kind == PixelLoss::Kind::kGeneralized
+                           ? json{{"pixel_loss", "generalized cross-entropy"}, {"q", pixel.q}}
+                           : json{{"pixel_loss", "cross-entropy"}};
     if (pixel.kind == PixelLoss::Kind::kGeneralized && pixel.outline_band > 0)
       m["object_loss"]["cross_entropy_near_model_outline"] = pixel.outline_band;
     if (!o.train.object_loss.reshapes_geometry) m["object_loss"]["reshapes_geometry"] = false;

@@ -77,10 +77,6 @@ double reference_object_loss(const std::vector<float>& maps, const std::vector<i
       const double b = ids.ids[p] == labels[j] ? 1.0 : 0.0;
       const double s = std::clamp(double(S), eps, 1 - eps);
       const double prob = b ? s : 1 - s;
-      // Bootstrapped: the target mixes the mask with the model's own mask.
-      const double t = loss.kind == PixelLoss::Kind::kBootstrapped
-                           ? loss.beta * b + (1 - loss.beta) * double(S >= loss.mask_threshold)
-                           : b;
       const bool generalized = loss.kind == PixelLoss::Kind::kGeneralized &&
                                !(loss.outline_band > 0 &&
                                  near_outline_by_search(&maps[j * pixels], ids.width, ids.height,
@@ -88,11 +84,11 @@ double reference_object_loss(const std::vector<float>& maps, const std::vector<i
       if (generalized)
         sum += (1 - std::pow(prob, q)) / q;
       else
-        sum -= t * std::log(s) + (1 - t) * std::log(1 - s);
+        sum -= b * std::log(s) + (1 - b) * std::log(1 - s);
       if (S > eps && S < 1 - eps)  // generalized: dL/dS = -prob^(q-1) dprob/dS
         grad[j * pixels + p] =
             float(weight * scale *
-                  (generalized ? -std::pow(prob, q - 1) * (b ? 1 : -1) : (s - t) / (s * (1 - s))));
+                  (generalized ? -std::pow(prob, q - 1) * (b ? 1 : -1) : (s - b) / (s * (1 - s))));
     }
     total += sum;
   }
@@ -160,82 +156,6 @@ TEST(ObjectLoss, GeneralizedLossesEqualTheirPerPixelFormula) {
 TEST(ObjectLoss, GeneralizedGradientsMatchFiniteDifferences) {
   expect_gradient_matches_finite_differences(generalized(0.7), 2e-3);
   expect_gradient_matches_finite_differences(generalized_off_outline(0.7, 2), 2e-3);
-}
-
-PixelLoss bootstrapped(double beta) {
-  PixelLoss loss;
-  loss.kind = PixelLoss::Kind::kBootstrapped;
-  loss.beta = beta;
-  return loss;
-}
-
-TEST(ObjectLoss, BootstrappedLossEqualsItsPerPixelFormula) {
-  const LossCase c(13);
-  const auto& [ids, labels, maps] = c;
-  for (double beta : {0.8, 0.0, 1.0, 0.5}) {
-    std::vector<float> grad, expected_grad;
-    const double loss = object_loss(maps, labels, ids, 0.1f, &grad, bootstrapped(beta));
-    EXPECT_NEAR(loss,
-                reference_object_loss(maps, labels, ids, 0.1f, expected_grad, bootstrapped(beta)),
-                1e-12)
-        << beta;
-    ASSERT_EQ(grad.size(), expected_grad.size());
-    for (size_t i = 0; i < grad.size(); ++i)
-      ASSERT_NEAR(grad[i], expected_grad[i], 1e-6 * std::abs(expected_grad[i])) << beta << " " << i;
-  }
-}
-
-// The target is held fixed, so the gradient is the loss's derivative only
-// where the model's mask does not flip within the step: no value of the
-// finite-difference case lies within 1e-3 of tau but 0.5 itself, which is
-// moved off it here.
-TEST(ObjectLoss, BootstrappedGradientMatchesFiniteDifferencesAwayFromTau) {
-  PixelLoss loss = bootstrapped(0.8);
-  loss.mask_threshold = 0.52f;
-  expect_gradient_matches_finite_differences(loss, 2e-3);
-}
-
-// With beta = 1 it is the paper's cross-entropy, to the last bit of the
-// gradient; with exact masks, whatever beta, a pixel the model already
-// puts on the mask's side is pulled further that way, as by the paper's
-// loss.
-TEST(ObjectLoss, BootstrappedLossWithBetaOneIsThePapers) {
-  const LossCase c(17);
-  const auto& [ids, labels, maps] = c;
-  std::vector<float> paper, beta_one;
-  const double paper_loss = object_loss(maps, labels, ids, 0.1f, &paper);
-  EXPECT_NEAR(object_loss(maps, labels, ids, 0.1f, &beta_one, bootstrapped(1.0)), paper_loss,
-              1e-12 * paper_loss);
-  EXPECT_EQ(beta_one, paper);
-}
-
-// Where the views disagree half and half, the cross-entropy settles the
-// pixel at S = 1/2, on tau; the bootstrapped loss pulls it to the side of
-// tau the model is on, and with the masks' share r = 0.4 an inside pixel
-// stays inside (0.8 * 0.4 + 0.2 = 0.52).
-TEST(ObjectLoss, BootstrappedLossKeepsTheModelsSideOfAnOutlineTheViewsSplitOn) {
-  IdMap inside(1, 1), outside(1, 1);
-  inside.ids = {1};
-  outside.ids = {0};
-  // The mean gradient over views, r of which say "inside", at occupancy s.
-  const auto mean_gradient = [&](float s, double r, const PixelLoss& loss) {
-    std::vector<float> g_in, g_out;
-    object_loss(std::vector<float>{s}, {1}, inside, 1.f, &g_in, loss);
-    object_loss(std::vector<float>{s}, {1}, outside, 1.f, &g_out, loss);
-    return r * g_in[0] + (1 - r) * g_out[0];
-  };
-  // A descent moves S against the gradient, so S settles at s* where the
-  // mean gradient goes from negative (below s*) to positive (above it).
-  const PixelLoss paper{}, boot = bootstrapped(0.8);
-  EXPECT_LT(mean_gradient(0.49f, 0.5, paper), 0.f);  // the paper's: s* = r = 0.5
-  EXPECT_GT(mean_gradient(0.51f, 0.5, paper), 0.f);
-  EXPECT_LT(mean_gradient(0.59f, 0.5, boot), 0.f);  // inside: s* = 0.8 r + 0.2 = 0.6
-  EXPECT_GT(mean_gradient(0.61f, 0.5, boot), 0.f);
-  EXPECT_GT(mean_gradient(0.41f, 0.5, boot), 0.f);  // outside: s* = 0.8 r = 0.4
-  EXPECT_LT(mean_gradient(0.39f, 0.5, boot), 0.f);
-  EXPECT_LT(mean_gradient(0.51f, 0.4, boot), 0.f);  // inside, r = 0.4: s* = 0.52
-  EXPECT_GT(mean_gradient(0.53f, 0.4, boot), 0.f);
-  EXPECT_GT(mean_gradient(0.51f, 0.4, paper), 0.f);  // the paper's falls to 0.4, below tau
 }
 
 // A square of an object in a 12 x 10 image: the pixels near its outline are
