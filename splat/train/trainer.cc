@@ -152,9 +152,10 @@ const Trainer::ObjectMap& Trainer::object_map(size_t view) {
     const View& v = scene_->views()[view];
     const fs::path file = require_id_map(id_map_folder(), v.name);
     auto m = std::make_unique<ObjectMap>();
-    m->ids = read_id_map_for_view(file, v.camera.width, v.camera.height);
-    remap_ids(m->ids, options_.object_loss.id_remap);
-    m->objects = objects_in_map(m->ids);
+    IdMap ids = read_id_map_for_view(file, v.camera.width, v.camera.height);
+    remap_ids(ids, options_.object_loss.id_remap);
+    m->objects = objects_in_map(ids);
+    m->ids = PackedIdMap::pack(ids);
     if (const auto it = options_.object_loss.ignored_ids.find(v.name);
         it != options_.object_loss.ignored_ids.end())
       std::erase_if(m->objects, [&](int32_t id) {
@@ -238,9 +239,10 @@ Trainer::Step Trainer::start_step(IterationStats& st) {
   step.backward.camera_gradient = refines_poses() && it >= o.poses.from_iteration;
   step.objects = learns_instances() ? &object_map(step.view) : nullptr;
   if (step.objects) {
-    step.ids = &step.objects->ids;
+    step.objects->ids.unpack_into(view_ids_);
+    step.ids = &view_ids_;
     if (st.half_view) {
-      half_ids_ = crop(step.objects->ids, half_);
+      half_ids_ = crop(view_ids_, half_);
       step.ids = &half_ids_;
     }
     st.objects = sample_objects(step.objects->objects, o.object_loss.objects_per_step, rng_);

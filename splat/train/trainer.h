@@ -22,6 +22,7 @@
 
 #include "splat/checkpoint.h"
 #include "splat/gaussians.h"
+#include "splat/packed_id_map.h"
 #include "splat/pose_file.h"
 #include "splat/render/pose_fit.h"
 #include "splat/render/renderer.h"
@@ -197,9 +198,10 @@ class Trainer {
   size_t next_view();
   RenderSettings render_settings() const;
   bool learns_instances() const;
-  // The view's ID map at its camera's size, and the objects it shows.
+  // The view's ID map at its camera's size, packed (it is kept for the
+  // whole run), and the objects it shows.
   struct ObjectMap {
-    IdMap ids;
+    PackedIdMap ids;
     std::vector<int32_t> objects;
   };
   const ObjectMap& object_map(size_t view);
@@ -257,7 +259,8 @@ class Trainer {
   ImageRGB target_;             // the training view's photo, reused
   ImageRGB downscaled_target_;  // the photo at the resolution schedule's size
   ImageRGB half_target_;        // the half of the photo a half view trains on
-  IdMap half_ids_;              // and of its ID map
+  IdMap view_ids_;              // the step's view's ID map, unpacked
+  IdMap half_ids_;              // and the half of it
   PixelRect half_;              // the half, in the view's pixels
   RenderOutputGradients out_grads_;
   GaussianGradients grads_;
