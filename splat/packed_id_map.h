@@ -3,8 +3,9 @@
 // in raster order. Stage two holds every training view's map so that no
 // iteration waits on a decode; as 16-bit pixels the 262 maps of a
 // LERF-Mask-size scene take 376 MB, more than stage two's other additions
-// to stage one, while a segmenter's map is a few regions per row, so its
-// runs take a few percent of that. Unpacking gives the map back exactly.
+// to stage one, while a segmenter's map is a few regions per row: as runs
+// they take about a hundredth of that (stage two's peak fell by 355 MiB,
+// docs/benchmarks.md). Unpacking gives the map back exactly.
 
 #include <cstddef>
 #include <cstdint>
