@@ -257,6 +257,7 @@ Trainer::Step Trainer::start_step(IterationStats& st) {
     }
     if (!o.object_loss.reshapes_geometry)
       step.backward.maps_without_geometry_gradient = int(step.settings.instance_labels.size());
+    step.settings.screen_means = weighs_footprints();
   }
   return step;
 }
@@ -284,8 +285,10 @@ void Trainer::forward_and_loss(const Step& step, IterationStats& st) {
     st.object_loss =
         object_loss(render_out_.instance_maps, render_out_.instance_map_labels, *step.ids,
                     object_weight, &out_grads_.instance_maps, o.object_loss.pixel_loss);
-  else
-    out_grads_.instance_maps.clear();
+  if (step.objects && weighs_footprints())
+    footprint_weights_.compute(render_out_.instance_maps, render_out_.instance_map_labels,
+                               *step.ids, o.object_loss.footprint_q);
+  if (!step.objects) out_grads_.instance_maps.clear();
   if (!std::isfinite(st.loss.total) || !std::isfinite(st.object_loss))
     throw TrainingDiverged(
         fmt::format("the loss is not finite at iteration {} (view {}); "
@@ -320,6 +323,9 @@ void Trainer::backward(const Step& step, const IterationStats& st) {
   }
   renderer_.backward(model_, step.camera, step.settings, step.backward, *render_state_, out_grads_,
                      grads_);
+  if (step.objects && weighs_footprints())
+    footprint_weights_.scale(grads_.instance_opacity_logits, model_.labels, grads_.visible,
+                             render_out_.mean2d, render_out_.radii);
   if (step.backward.camera_gradient && it < o.total_iterations)
     poses_.step(step.view, grads_.camera, pose_learning_rate(it));
 }

@@ -15,6 +15,7 @@
 #include "splat/npy.h"
 #include "splat/render/renderer.h"
 #include "splat/train/adam.h"
+#include "splat/train/footprint_weight.h"
 #include "splat/train/image_loss.h"
 
 namespace splat {
@@ -451,6 +452,53 @@ TEST(ObjectLoss, ProtectedGaussiansKeepTheirInstanceOpacityAgainstAMissedMask) {
   EXPECT_NEAR(f.sigma_star(0), start, 0.02f);
   EXPECT_GT(f.sigma_star(1), 0.9f);
   EXPECT_LT(f.sigma_star(f.kFloater), 0.05f);
+}
+
+// One view's mask missed object 1. Under the cross-entropy that view pulls
+// object 1's sigma* down harder than an exact view holds it up (1 / (1 - S)
+// against 1 / S), which is how misses punch holes; the footprint weight
+// (--recipe robust-footprint) scales the pull by how much of the mask over
+// the Gaussian agrees with the model, so the miss weighs less against the
+// views that agree. The mislabelled floater, which every
+// view's mask disagrees with, is still pushed out of the mask.
+TEST(ObjectLoss, TheFootprintWeightOutvotesAViewThatMissedAnObject) {
+  FloaterScene f;
+  IdMap missed = f.ids;
+  for (uint16_t& id : missed.ids)
+    if (id == 1) id = 0;
+  // The object loss's sigma* gradient, with or without the footprint weight.
+  const auto sigma_star_gradient = [&](const IdMap& mask, bool footprint) {
+    const CpuRenderer renderer;
+    RenderSettings s = f.object_settings(nullptr);
+    s.screen_means = true;
+    std::unique_ptr<RenderState> state;
+    const RenderOutput r = renderer.render(f.m, f.cam, s, &state);
+    RenderOutputGradients out_grads;
+    object_loss(r.instance_maps, r.instance_map_labels, mask, 0.1f, &out_grads.instance_maps);
+    GaussianGradients g = renderer.backward(f.m, f.cam, s, {}, *state, out_grads);
+    if (footprint) {
+      FootprintWeights weights;
+      weights.compute(r.instance_maps, r.instance_map_labels, mask, 0.7);
+      weights.scale(g.instance_opacity_logits, f.m.labels, g.visible, r.mean2d, r.radii);
+    }
+    return g.instance_opacity_logits;
+  };
+  const std::vector<float> paper_exact = sigma_star_gradient(f.ids, false);
+  const std::vector<float> paper_missed = sigma_star_gradient(missed, false);
+  const std::vector<float> weighted_exact = sigma_star_gradient(f.ids, true);
+  const std::vector<float> weighted_missed = sigma_star_gradient(missed, true);
+  // Gradient descent: the exact view raises object 1's sigma*, the miss lowers it.
+  ASSERT_LT(paper_exact[0], 0.f);
+  ASSERT_GT(paper_missed[0], 0.f);
+  ASSERT_LT(weighted_exact[0], 0.f);
+  const float paper_ratio = paper_missed[0] / -paper_exact[0];
+  const float weighted_ratio = weighted_missed[0] / -weighted_exact[0];
+  EXPECT_GT(paper_ratio, 5.f);  // one miss outweighs five exact views
+  // This Gaussian is wide and S about 0.6 over its footprint, so the weight
+  // is far from 0 in the miss (about 0.55, against 0.7 in an exact view);
+  // where S is near 1 under a miss it is near 0.
+  EXPECT_LT(weighted_ratio, 0.8f * paper_ratio);
+  EXPECT_GT(weighted_exact[FloaterScene::kFloater], 0.f);
 }
 
 // The unprotected labels must not meet any ID a map may show, even IDs no
