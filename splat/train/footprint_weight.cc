@@ -54,22 +54,56 @@ double FootprintWeights::weight(size_t plane, float x, float y, int32_t radius) 
                   std::min(cy + h + 1, height_));
 }
 
-void FootprintWeights::scale(std::span<float> gradient, std::span<const int32_t> gaussian_labels,
-                             std::span<const uint8_t> visible, std::span<const float> mean2d,
-                             std::span<const int32_t> radii) const {
-  const size_t n = gradient.size();
-  if (gaussian_labels.size() != n || visible.size() != n || mean2d.size() != 2 * n ||
-      radii.size() != n)
-    throw std::invalid_argument("FootprintWeights::scale: one value per Gaussian expected");
+std::vector<float> FootprintWeights::per_gaussian(std::span<const int32_t> gaussian_labels,
+                                                  std::span<const uint8_t> visible,
+                                                  std::span<const float> mean2d,
+                                                  std::span<const int32_t> radii) const {
+  const size_t n = gaussian_labels.size();
+  if (visible.size() != n || mean2d.size() != 2 * n || radii.size() != n)
+    throw std::invalid_argument("FootprintWeights: one value per Gaussian expected");
+  std::vector<float> weights(n, 1.f);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 16384), [&](const auto& r) {
     for (size_t i = r.begin(); i < r.end(); ++i) {
       if (!visible[i] || radii[i] <= 0) continue;
       const auto plane = std::find(labels_.begin(), labels_.end(), gaussian_labels[i]);
       if (plane == labels_.end()) continue;
-      gradient[i] *= float(
+      weights[i] = float(
           weight(size_t(plane - labels_.begin()), mean2d[2 * i], mean2d[2 * i + 1], radii[i]));
     }
   });
+  return weights;
+}
+
+void add_weighted(GaussianGradients& into, const GaussianGradients& from,
+                  std::span<const float> weights) {
+  const size_t n = weights.size();
+  struct Array {
+    std::vector<float>& into;
+    const std::vector<float>& from;
+    size_t width;
+  };
+  const Array arrays[] = {{into.means, from.means, 3},
+                          {into.sh_dc, from.sh_dc, 3},
+                          {into.sh_rest, from.sh_rest, kShRestFloats},
+                          {into.opacity_logits, from.opacity_logits, 1},
+                          {into.log_scales, from.log_scales, 3},
+                          {into.rotations, from.rotations, 4},
+                          {into.instance_opacity_logits, from.instance_opacity_logits, 1},
+                          {into.mean2d_ndc, from.mean2d_ndc, 2}};
+  if (into.visible.size() != n || from.visible.size() != n)
+    throw std::invalid_argument("add_weighted: one weight per Gaussian expected");
+  for (const Array& a : arrays)
+    if (a.into.size() != a.width * n || a.from.size() != a.width * n)
+      throw std::invalid_argument("add_weighted: gradients of other sizes");
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 16384), [&](const auto& r) {
+    for (const Array& a : arrays)
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        if (!into.visible[i]) continue;
+        for (size_t k = a.width * i; k < a.width * (i + 1); ++k)
+          a.into[k] += weights[i] * a.from[k];
+      }
+  });
+  for (size_t k = 0; k < into.camera.size(); ++k) into.camera[k] += from.camera[k];
 }
 
 }  // namespace splat

@@ -1,8 +1,9 @@
 #pragma once
 // The footprint weight of `op2gs-learn --recipe robust-footprint` (an
 // experiment, not the default): the paper's object loss, with each
-// Gaussian's sigma* gradient from a view scaled by how well that view's mask
-// agrees with the model over the Gaussian's footprint.
+// Gaussian's share of its gradient in a view (sigma*, position and shape)
+// scaled by how well that view's mask agrees with the model over the
+// Gaussian's footprint.
 //
 // Why: the generalized cross-entropy (PixelLoss::kGeneralized) is the
 // cross-entropy with each pixel's gradient scaled by p^q, p the model's
@@ -11,11 +12,11 @@
 // decides per pixel, and the pixels of a Gaussian's tail past an object's
 // outline are such a disagreeing minority too: its masks come out dilated
 // (docs/benchmarks.md, "Stage two's own spread"). Here p^q is averaged over
-// each Gaussian's footprint in the view and scales that Gaussian's sigma*
-// gradient. A Gaussian whose footprint the view's mask agrees with learns
-// from all its pixels, its tail included, as under the cross-entropy; one
-// inside a region the mask missed or leaked over is outvoted, as under the
-// generalized loss. Position and shape get the paper's gradient.
+// each Gaussian's footprint in the view and scales that Gaussian's gradient
+// from the object loss. A Gaussian whose footprint the view's mask agrees
+// with learns from all its pixels, its tail included, as under the
+// cross-entropy; one inside a region the mask missed or leaked over is
+// outvoted, as under the generalized loss.
 //
 // The footprint is the square of half-size floor(r / 3) pixels (one sigma)
 // around the pixel of the Gaussian's projected mean, r its 3-sigma screen
@@ -26,6 +27,7 @@
 #include <vector>
 
 #include "splat/image.h"
+#include "splat/render/render_types.h"
 
 namespace splat {
 
@@ -45,12 +47,11 @@ class FootprintWeights {
   // footprint.
   double weight(size_t plane, float x, float y, int32_t radius) const;
 
-  // Scales the gradient (one value per Gaussian) of each visible Gaussian
-  // whose label has a plane by its weight; the others are left as they are.
-  // mean2d holds 2 values per Gaussian, as RenderOutput::mean2d.
-  void scale(std::span<float> gradient, std::span<const int32_t> gaussian_labels,
-             std::span<const uint8_t> visible, std::span<const float> mean2d,
-             std::span<const int32_t> radii) const;
+  // Per Gaussian, its weight if it is visible and its label has a plane,
+  // else 1. mean2d holds 2 values per Gaussian, as RenderOutput::mean2d.
+  std::vector<float> per_gaussian(std::span<const int32_t> gaussian_labels,
+                                  std::span<const uint8_t> visible, std::span<const float> mean2d,
+                                  std::span<const int32_t> radii) const;
 
  private:
   int width_ = 0, height_ = 0;
@@ -60,5 +61,11 @@ class FootprintWeights {
   // the sum of p^q over [0, x) x [0, y).
   std::vector<std::vector<double>> sums_;
 };
+
+// into += weights[i] * from, Gaussian by Gaussian, over every parameter's
+// gradient of the Gaussians visible in `into` (the others may be unwritten:
+// BackwardSettings::zero_culled_gradients), and the camera's gradient.
+void add_weighted(GaussianGradients& into, const GaussianGradients& from,
+                  std::span<const float> weights);
 
 }  // namespace splat

@@ -321,13 +321,29 @@ void Trainer::backward(const Step& step, const IterationStats& st) {
     exposure_.backward_and_step(step.view, render_out_.color, out_grads_.color, lr,
                                 o.exposure.regularization);
   }
-  renderer_.backward(model_, step.camera, step.settings, step.backward, *render_state_, out_grads_,
-                     grads_);
   if (step.objects && weighs_footprints())
-    footprint_weights_.scale(grads_.instance_opacity_logits, model_.labels, grads_.visible,
-                             render_out_.mean2d, render_out_.radii);
+    backward_with_footprint_weights(step);
+  else
+    renderer_.backward(model_, step.camera, step.settings, step.backward, *render_state_,
+                       out_grads_, grads_);
   if (step.backward.camera_gradient && it < o.total_iterations)
     poses_.step(step.view, grads_.camera, pose_learning_rate(it));
+}
+
+// The object loss's gradient from a backward pass of its own, so that each
+// Gaussian's share of it can be weighted (footprint_weight.h), added to the
+// image loss's.
+void Trainer::backward_with_footprint_weights(const Step& step) {
+  RenderOutputGradients objects;
+  objects.instance_maps.swap(out_grads_.instance_maps);
+  renderer_.backward(model_, step.camera, step.settings, step.backward, *render_state_, out_grads_,
+                     grads_);
+  renderer_.backward(model_, step.camera, step.settings, step.backward, *render_state_, objects,
+                     object_grads_);
+  objects.instance_maps.swap(out_grads_.instance_maps);
+  add_weighted(grads_, object_grads_,
+               footprint_weights_.per_gaussian(model_.labels, grads_.visible, render_out_.mean2d,
+                                               render_out_.radii));
 }
 
 std::array<bool, kParamGroups> Trainer::densify_or_reset(const Step& step, IterationStats& st) {

@@ -255,6 +255,8 @@ class Trainer {
   void read_protection();
   bool weighs_footprints() const { return options_.object_loss.footprint_q > 0; }
   FootprintWeights footprint_weights_;  // the step's, when weighs_footprints()
+  GaussianGradients object_grads_;      // and the object loss's gradient apart
+  void backward_with_footprint_weights(const Step& step);
   CpuRenderer renderer_;
   // Reused from iteration to iteration.
   std::unique_ptr<RenderState> render_state_;

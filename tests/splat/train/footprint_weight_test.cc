@@ -1,6 +1,7 @@
 // The footprint weight of --recipe robust-footprint against a slow
 // reference, and its two limits: exact masks leave the paper's gradient as
-// it is, and a one-pixel footprint gives the generalized cross-entropy's.
+// it is, and a one-pixel footprint gives the generalized cross-entropy's;
+// and the sum of the weighted gradients.
 
 #include "splat/train/footprint_weight.h"
 
@@ -72,54 +73,90 @@ TEST(FootprintWeights, TheFootprintIsOneSigmaAroundTheMeanCutToTheImage) {
   EXPECT_NEAR(w.weight(0, -4.f, 9.f, 1), m.agreement(0, 0, 4), 1e-6);
 }
 
-TEST(FootprintWeights, ScalesEachGaussianOfAPlaneByItsWeight) {
+TEST(FootprintWeights, EachVisibleGaussianOfAPlaneGetsItsFootprintsWeight) {
   const Maps m(3);
   FootprintWeights w;
   w.compute(m.S, m.labels, m.ids, kQ);
   std::mt19937_64 rng(4);
-  std::uniform_real_distribution<float> x(-1.f, 8.f), y(-1.f, 6.f), g(-1.f, 1.f);
+  std::uniform_real_distribution<float> x(-1.f, 8.f), y(-1.f, 6.f);
   std::uniform_int_distribution<int32_t> label(0, 3), radius(0, 9);
   const size_t n = 200;
-  std::vector<float> grad(n), mean2d(2 * n);
+  std::vector<float> mean2d(2 * n);
   std::vector<int32_t> labels(n), radii(n);
   std::vector<uint8_t> visible(n);
   for (size_t i = 0; i < n; ++i) {
-    grad[i] = g(rng), mean2d[2 * i] = x(rng), mean2d[2 * i + 1] = y(rng);
+    mean2d[2 * i] = x(rng), mean2d[2 * i + 1] = y(rng);
     labels[i] = label(rng), radii[i] = radius(rng), visible[i] = i % 5 != 0;
   }
-  std::vector<float> scaled = grad;
-  w.scale(scaled, labels, visible, mean2d, radii);
+  const std::vector<float> weights = w.per_gaussian(labels, visible, mean2d, radii);
+  ASSERT_EQ(weights.size(), n);
   for (size_t i = 0; i < n; ++i) {
     const auto plane = std::find(m.labels.begin(), m.labels.end(), labels[i]);
     if (!visible[i] || radii[i] == 0 || plane == m.labels.end()) {
-      EXPECT_EQ(scaled[i], grad[i]) << i;  // untouched
+      EXPECT_EQ(weights[i], 1.f) << i;
       continue;
     }
     const size_t j = size_t(plane - m.labels.begin());
     const int cx = std::clamp(int(std::floor(mean2d[2 * i])), 0, 6);
     const int cy = std::clamp(int(std::floor(mean2d[2 * i + 1])), 0, 4);
     const int h = radii[i] / 3;
-    const double slow = m.slow_box_mean(j, std::max(cx - h, 0), std::max(cy - h, 0),
-                                        std::min(cx + h + 1, 7), std::min(cy + h + 1, 5));
-    EXPECT_NEAR(scaled[i], grad[i] * slow, 1e-6) << i;
+    EXPECT_NEAR(weights[i],
+                m.slow_box_mean(j, std::max(cx - h, 0), std::max(cy - h, 0),
+                                std::min(cx + h + 1, 7), std::min(cy + h + 1, 5)),
+                1e-6)
+        << i;
   }
 }
 
 // Where the model's maps are its masks, every weight is 1: the paper's
 // gradient, bit for bit.
-TEST(FootprintWeights, MasksTheModelAgreesWithLeaveThePapersGradient) {
+TEST(FootprintWeights, MasksTheModelAgreesWithWeighEveryGaussianOne) {
   Maps m(5);
   for (size_t j = 0; j < m.labels.size(); ++j)
     for (size_t p = 0; p < m.ids.ids.size(); ++p)
       m.S[j * m.ids.ids.size() + p] = m.ids.ids[p] == m.labels[j] ? 1.f : 0.f;
   FootprintWeights w;
   w.compute(m.S, m.labels, m.ids, kQ);
-  const std::vector<float> grad = {0.25f, -3.f, 1e-7f, 7.5f};
-  std::vector<float> scaled = grad;
-  w.scale(scaled, std::vector<int32_t>{1, 3, 1, 3}, std::vector<uint8_t>{1, 1, 1, 1},
-          std::vector<float>{0.5f, 0.5f, 3.2f, 2.2f, 6.9f, 4.9f, 1.f, 1.f},
-          std::vector<int32_t>{1, 9, 4, 30});
-  EXPECT_EQ(scaled, grad);
+  EXPECT_EQ(w.per_gaussian(std::vector<int32_t>{1, 3, 1, 3}, std::vector<uint8_t>{1, 1, 1, 1},
+                           std::vector<float>{0.5f, 0.5f, 3.2f, 2.2f, 6.9f, 4.9f, 1.f, 1.f},
+                           std::vector<int32_t>{1, 9, 4, 30}),
+            std::vector<float>(4, 1.f));
+}
+
+// add_weighted adds each visible Gaussian's gradient times its weight to
+// every parameter's, and leaves the culled ones as they are.
+TEST(FootprintWeights, AddWeightedAddsEachVisibleGaussiansShare) {
+  const size_t n = 3;
+  GaussianGradients into, from;
+  into.resize(n), from.resize(n);
+  into.visible = {1, 0, 1}, from.visible = into.visible;
+  std::vector<std::vector<float>*> arrays[2];
+  for (int k = 0; k < 2; ++k) {
+    GaussianGradients& g = k ? from : into;
+    arrays[k] = {&g.means,
+                 &g.sh_dc,
+                 &g.sh_rest,
+                 &g.opacity_logits,
+                 &g.log_scales,
+                 &g.rotations,
+                 &g.instance_opacity_logits,
+                 &g.mean2d_ndc};
+    for (std::vector<float>* a : arrays[k])
+      for (size_t v = 0; v < a->size(); ++v) (*a)[v] = float(v + 1) * (k ? 0.5f : 1.f);
+    g.camera = {1, 2, 3, 4, 5, 6};
+  }
+  const std::vector<float> weights = {0.25f, 3.f, 2.f};
+  add_weighted(into, from, weights);
+  for (const std::vector<float>* a : arrays[0]) {
+    const size_t width = a->size() / n;
+    for (size_t v = 0; v < a->size(); ++v) {
+      const size_t i = v / width;
+      const float before = float(v + 1), added = i == 1 ? 0.f : weights[i] * 0.5f * float(v + 1);
+      EXPECT_EQ((*a)[v], before + added) << v;
+    }
+  }
+  EXPECT_EQ(into.camera[5], 12.0);
+  EXPECT_THROW(add_weighted(into, from, std::vector<float>(2)), std::invalid_argument);
 }
 
 // A footprint of one pixel: the cross-entropy's gradient times the weight is
@@ -150,9 +187,8 @@ TEST(FootprintWeights, RejectsMapsOfAnotherSize) {
   FootprintWeights w;
   EXPECT_THROW(w.compute(std::vector<float>(3), m.labels, m.ids, kQ), std::invalid_argument);
   w.compute(m.S, m.labels, m.ids, kQ);
-  std::vector<float> grad(2);
-  EXPECT_THROW(w.scale(grad, std::vector<int32_t>(2), std::vector<uint8_t>(2),
-                       std::vector<float>(3), std::vector<int32_t>(2)),
+  EXPECT_THROW(w.per_gaussian(std::vector<int32_t>(2), std::vector<uint8_t>(2),
+                              std::vector<float>(3), std::vector<int32_t>(2)),
                std::invalid_argument);
 }
 
