@@ -67,14 +67,10 @@ int main(int argc, char** argv) {
                  "masks instead of their mean, so a segmenter's misses and leaks in some views "
                  "are outvoted, as the vote outvotes them; robust-outline: the same, but the "
                  "paper's loss within 3 pixels of the outline of the model's own mask of the "
-                 "object, where the generalized loss dilates the masks (an experiment); "
-                 "robust-footprint: the paper's loss, each Gaussian's sigma* step from a view "
-                 "weighted by the generalized loss's weight averaged over its footprint, so "
-                 "views are outvoted per Gaussian, not per pixel (an experiment)")
+                 "object, where the generalized loss dilates the masks (an experiment)")
       ->capture_default_str();
   app.add_option("--gce-q", o.train.object_loss.pixel_loss.q,
-                 "q of the generalized cross-entropy (--recipe robust, robust-outline, "
-                 "robust-footprint), in (0, 1]")
+                 "q of the generalized cross-entropy (--recipe robust, robust-outline), in (0, 1]")
       ->capture_default_str();
   app.add_option("--lr-instance-opacity", o.train.lr_instance_opacity,
                  "learning rate of sigma* (as a logit)")
@@ -85,13 +81,10 @@ int main(int argc, char** argv) {
         "--recipe", recipe,
         {{"paper", splat::PixelLoss::Kind::kCrossEntropy},
          {"robust", splat::PixelLoss::Kind::kGeneralized},
-         {"robust-outline", splat::PixelLoss::Kind::kGeneralized},
-         {"robust-footprint", splat::PixelLoss::Kind::kCrossEntropy}});
+         {"robust-outline", splat::PixelLoss::Kind::kGeneralized}});
     // The masks' outline error is a jitter of a few pixels whatever the
     // object's size (docs/synthetic.md): 3 pixels, fixed before any run.
     if (recipe == "robust-outline") o.train.object_loss.pixel_loss.outline_band = 3;
-    if (recipe == "robust-footprint")
-      o.train.object_loss.footprint_q = o.train.object_loss.pixel_loss.q;
     o.train.object_loss.reshapes_geometry = !sigma_star_only;
     o.train.densify_until = 0;  // no densification (nor opacity reset) in stage two
     const splat::WorkLayout w{work};

@@ -14,16 +14,14 @@
 # spaces: clean=  exposure=--exposure,0.25,--white-balance,0.03
 # Variants (VARIANTS, default "plain"): plain (the paper's recipe), robust
 # (op2gs-learn --recipe robust: the generalized cross-entropy),
-# robust-outline (op2gs-learn --recipe robust-outline), robust-footprint
-# (op2gs-learn --recipe robust-footprint), joined
+# robust-outline (op2gs-learn --recipe robust-outline), joined
 # (op2gs-vote --join-switched-ids), tracks (and --find-merges), exposure
 # (op2gs-train --exposure-compensation), exposure+joined, exposure+tracks; and for the sensitivity study,
 # one value changed from the paper's: lambda-<lambda_o>, m-<M>, tau-<tau>,
 # init-<sigma* of every Gaussian at the start of stage two>; and for the
 # spread of stage two alone, plain-seed-<n> (op2gs-learn --seed n: another
 # order of the views, other objects sampled), and robust-seed-<n> and
-# robust-outline-seed-<n> and robust-footprint-seed-<n> the same for --recipe
-# robust, robust-outline and robust-footprint.
+# robust-outline-seed-<n> the same for --recipe robust and robust-outline.
 # Pose variants:
 # fit (op2gs-render --fit-poses: the test views' cameras fitted to their
 # photos), poses (and op2gs-train --refine-poses), poses+tracks,
@@ -88,7 +86,6 @@ for condition in "$@"; do
         plain) ;;
         robust) learn_options=(--recipe robust) ;;
         robust-outline) learn_options=(--recipe robust-outline) ;;
-        robust-footprint) learn_options=(--recipe robust-footprint) ;;
         fast)
           train_options=(--recipe fast)
           learn_options=(--sparse-adam --half-views-from 1)
@@ -101,9 +98,6 @@ for condition in "$@"; do
         robust-seed-*) learn_options=(--recipe robust --seed "${variant#robust-seed-}") ;;
         robust-outline-seed-*)
           learn_options=(--recipe robust-outline --seed "${variant#robust-outline-seed-}")
-          ;;
-        robust-footprint-seed-*)
-          learn_options=(--recipe robust-footprint --seed "${variant#robust-footprint-seed-}")
           ;;
         joined) vote_options=(--join-switched-ids) ;;
         exposure) train_options=(--exposure-compensation) ;;

@@ -49,8 +49,6 @@ struct RenderSettings {
   bool instance_label_map = false;
   // Ablation baseline: label of the Gaussian with the largest alpha_i T_i.
   bool baseline_label_map = false;
-  // RenderOutput::mean2d, each Gaussian's projected mean.
-  bool screen_means = false;
 };
 
 // What only the backward pass reads.
@@ -86,7 +84,6 @@ struct RenderOutput {
   ImageBuffer<int32_t> instance_label;  // W * H if requested
   ImageBuffer<int32_t> baseline_label;  // W * H if requested
   std::vector<int32_t> radii;           // per Gaussian: screen radius in pixels, 0 if culled
-  std::vector<float> mean2d;  // 2 per Gaussian, pixel coordinates, if settings.screen_means
 };
 
 // dLoss/d(output), same shapes as RenderOutput; empty vectors mean zero.

@@ -111,10 +111,6 @@ void CpuRenderer::render(const GaussianModel& model, const Camera& camera,
   bin_gaussians(st.projected, st.bins);
   rasterize_forward(settings, st, out);
   out.radii = st.projected.radius;
-  if (settings.screen_means)
-    out.mean2d = st.projected.mean2d;
-  else
-    out.mean2d.clear();
   if (state && own) *state = std::move(own);
 }
 

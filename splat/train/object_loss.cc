@@ -51,12 +51,6 @@ void ObjectLossOptions::Check() const {
   if (pixel_loss.kind == PixelLoss::Kind::kGeneralized && !(pixel_loss.q > 0 && pixel_loss.q <= 1))
     throw std::invalid_argument("the generalized cross-entropy's q must be in (0, 1]");
   if (pixel_loss.outline_band < 0) throw std::invalid_argument("the outline band must be >= 0");
-  if (!(footprint_q >= 0 && footprint_q <= 1))
-    throw std::invalid_argument("the footprint weight's q must be in [0, 1]");
-  if (footprint_q > 0 && pixel_loss.kind != PixelLoss::Kind::kCrossEntropy)
-    throw std::invalid_argument("the footprint weight goes with the cross-entropy only");
-  if (footprint_q > 0 && protected_agreement > 0)
-    throw std::invalid_argument("the footprint weight and vote protection do not combine");
   if (protected_agreement > 0 && label_agreement.empty())
     throw std::invalid_argument("protecting sigma* needs op2gs-vote's label agreement file");
 }

@@ -104,11 +104,7 @@ struct ObjectLossOptions {
   // so it stays off (docs/benchmarks.md, "Real captures").
   bool reshapes_geometry = true;
   PixelLoss pixel_loss;  // the paper's cross-entropy by default
-  // With the cross-entropy: each Gaussian's sigma* gradient scaled by the
-  // mean of p^footprint_q over its footprint in the view (footprint_weight.h,
-  // --recipe robust-footprint); 0: off (the paper).
-  double footprint_q = 0;
-  void Check() const;  // throws std::invalid_argument
+  void Check() const;    // throws std::invalid_argument
 };
 
 // Per Gaussian: 1 if its label agreement in `file` (float array of shape

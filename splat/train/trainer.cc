@@ -257,7 +257,6 @@ Trainer::Step Trainer::start_step(IterationStats& st) {
     }
     if (!o.object_loss.reshapes_geometry)
       step.backward.maps_without_geometry_gradient = int(step.settings.instance_labels.size());
-    step.settings.screen_means = weighs_footprints();
   }
   return step;
 }
@@ -285,10 +284,8 @@ void Trainer::forward_and_loss(const Step& step, IterationStats& st) {
     st.object_loss =
         object_loss(render_out_.instance_maps, render_out_.instance_map_labels, *step.ids,
                     object_weight, &out_grads_.instance_maps, o.object_loss.pixel_loss);
-  if (step.objects && weighs_footprints())
-    footprint_weights_.compute(render_out_.instance_maps, render_out_.instance_map_labels,
-                               *step.ids, o.object_loss.footprint_q);
-  if (!step.objects) out_grads_.instance_maps.clear();
+  else
+    out_grads_.instance_maps.clear();
   if (!std::isfinite(st.loss.total) || !std::isfinite(st.object_loss))
     throw TrainingDiverged(
         fmt::format("the loss is not finite at iteration {} (view {}); "
@@ -321,29 +318,10 @@ void Trainer::backward(const Step& step, const IterationStats& st) {
     exposure_.backward_and_step(step.view, render_out_.color, out_grads_.color, lr,
                                 o.exposure.regularization);
   }
-  if (step.objects && weighs_footprints())
-    backward_with_footprint_weights(step);
-  else
-    renderer_.backward(model_, step.camera, step.settings, step.backward, *render_state_,
-                       out_grads_, grads_);
-  if (step.backward.camera_gradient && it < o.total_iterations)
-    poses_.step(step.view, grads_.camera, pose_learning_rate(it));
-}
-
-// The object loss's gradient from a backward pass of its own, so that each
-// Gaussian's share of it can be weighted (footprint_weight.h), added to the
-// image loss's.
-void Trainer::backward_with_footprint_weights(const Step& step) {
-  RenderOutputGradients objects;
-  objects.instance_maps.swap(out_grads_.instance_maps);
   renderer_.backward(model_, step.camera, step.settings, step.backward, *render_state_, out_grads_,
                      grads_);
-  renderer_.backward(model_, step.camera, step.settings, step.backward, *render_state_, objects,
-                     object_grads_);
-  objects.instance_maps.swap(out_grads_.instance_maps);
-  add_weighted(grads_, object_grads_,
-               footprint_weights_.per_gaussian(model_.labels, grads_.visible, render_out_.mean2d,
-                                               render_out_.radii));
+  if (step.backward.camera_gradient && it < o.total_iterations)
+    poses_.step(step.view, grads_.camera, pose_learning_rate(it));
 }
 
 std::array<bool, kParamGroups> Trainer::densify_or_reset(const Step& step, IterationStats& st) {

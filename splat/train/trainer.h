@@ -30,7 +30,6 @@
 #include "splat/train/adam.h"
 #include "splat/train/densify.h"
 #include "splat/train/exposure.h"
-#include "splat/train/footprint_weight.h"
 #include "splat/train/half_views.h"
 #include "splat/train/image_loss.h"
 #include "splat/train/object_loss.h"
@@ -253,10 +252,6 @@ class Trainer {
   int32_t split_offset_ = 0;
   bool protects() const { return options_.object_loss.protected_agreement > 0; }
   void read_protection();
-  bool weighs_footprints() const { return options_.object_loss.footprint_q > 0; }
-  FootprintWeights footprint_weights_;  // the step's, when weighs_footprints()
-  GaussianGradients object_grads_;      // and the object loss's gradient apart
-  void backward_with_footprint_weights(const Step& step);
   CpuRenderer renderer_;
   // Reused from iteration to iteration.
   std::unique_ptr<RenderState> render_state_;

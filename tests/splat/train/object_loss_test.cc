@@ -15,7 +15,6 @@
 #include "splat/npy.h"
 #include "splat/render/renderer.h"
 #include "splat/train/adam.h"
-#include "splat/train/footprint_weight.h"
 #include "splat/train/image_loss.h"
 
 namespace splat {
@@ -452,86 +451,6 @@ TEST(ObjectLoss, ProtectedGaussiansKeepTheirInstanceOpacityAgainstAMissedMask) {
   EXPECT_NEAR(f.sigma_star(0), start, 0.02f);
   EXPECT_GT(f.sigma_star(1), 0.9f);
   EXPECT_LT(f.sigma_star(f.kFloater), 0.05f);
-}
-
-// The gradients of the image loss and the object loss (without its weight
-// when footprint is false, else with it) against `mask`, from the model as
-// it is, the object loss's from a backward pass of its own, as the trainer
-// does with the footprint weight.
-GaussianGradients two_pass_gradients(const FloaterScene& f, const IdMap& mask, bool footprint) {
-  const CpuRenderer renderer;
-  RenderSettings s = f.object_settings(nullptr);
-  s.screen_means = true;
-  std::unique_ptr<RenderState> state;
-  const RenderOutput r = renderer.render(f.m, f.cam, s, &state);
-  RenderOutputGradients image, objects;
-  image_loss(r.color, f.target, {}, &image.color);
-  object_loss(r.instance_maps, r.instance_map_labels, mask, 0.1f, &objects.instance_maps);
-  GaussianGradients g = renderer.backward(f.m, f.cam, s, {}, *state, image);
-  const GaussianGradients o = renderer.backward(f.m, f.cam, s, {}, *state, objects);
-  FootprintWeights weights;
-  weights.compute(r.instance_maps, r.instance_map_labels, mask, 0.7);
-  add_weighted(g, o,
-               footprint ? weights.per_gaussian(f.m.labels, g.visible, r.mean2d, r.radii)
-                         : std::vector<float>(f.m.size(), 1.f));
-  return g;
-}
-
-// The two backward passes with every weight 1 give the one pass's
-// gradients, to rounding.
-TEST(ObjectLoss, TheObjectLossApartAddsUpToTheWholeGradient) {
-  FloaterScene f;
-  const CpuRenderer renderer;
-  const RenderSettings s = f.object_settings(nullptr);
-  std::unique_ptr<RenderState> state;
-  const RenderOutput r = renderer.render(f.m, f.cam, s, &state);
-  RenderOutputGradients both;
-  image_loss(r.color, f.target, {}, &both.color);
-  object_loss(r.instance_maps, r.instance_map_labels, f.ids, 0.1f, &both.instance_maps);
-  const GaussianGradients one = renderer.backward(f.m, f.cam, s, {}, *state, both);
-  const GaussianGradients two = two_pass_gradients(f, f.ids, false);
-  for (size_t k = 0; k < one.means.size(); ++k)
-    EXPECT_NEAR(two.means[k], one.means[k], 1e-6 + 1e-5 * std::abs(one.means[k]));
-  for (size_t k = 0; k < one.log_scales.size(); ++k)
-    EXPECT_NEAR(two.log_scales[k], one.log_scales[k], 1e-6 + 1e-5 * std::abs(one.log_scales[k]));
-  for (size_t k = 0; k < one.instance_opacity_logits.size(); ++k)
-    EXPECT_NEAR(two.instance_opacity_logits[k], one.instance_opacity_logits[k],
-                1e-9 + 1e-5 * std::abs(one.instance_opacity_logits[k]));
-  for (size_t k = 0; k < one.sh_dc.size(); ++k)
-    EXPECT_NEAR(two.sh_dc[k], one.sh_dc[k], 1e-9 + 1e-5 * std::abs(one.sh_dc[k]));
-}
-
-// One view's mask missed object 1. Under the cross-entropy that view pulls
-// object 1's sigma* down harder than an exact view holds it up (1 / (1 - S)
-// against 1 / S), which is how misses punch holes; the footprint weight
-// (--recipe robust-footprint) scales the pull by how much of the mask over
-// the Gaussian agrees with the model, so the miss weighs less against the
-// views that agree. The mislabelled floater, which every view's mask
-// disagrees with, is still pushed out of the mask.
-TEST(ObjectLoss, TheFootprintWeightOutvotesAViewThatMissedAnObject) {
-  FloaterScene f;
-  IdMap missed = f.ids;
-  for (uint16_t& id : missed.ids)
-    if (id == 1) id = 0;
-  const auto sigma_star_gradient = [&](const IdMap& mask, bool footprint) {
-    return two_pass_gradients(f, mask, footprint).instance_opacity_logits;
-  };
-  const std::vector<float> paper_exact = sigma_star_gradient(f.ids, false);
-  const std::vector<float> paper_missed = sigma_star_gradient(missed, false);
-  const std::vector<float> weighted_exact = sigma_star_gradient(f.ids, true);
-  const std::vector<float> weighted_missed = sigma_star_gradient(missed, true);
-  // Gradient descent: the exact view raises object 1's sigma*, the miss lowers it.
-  ASSERT_LT(paper_exact[0], 0.f);
-  ASSERT_GT(paper_missed[0], 0.f);
-  ASSERT_LT(weighted_exact[0], 0.f);
-  const float paper_ratio = paper_missed[0] / -paper_exact[0];
-  const float weighted_ratio = weighted_missed[0] / -weighted_exact[0];
-  EXPECT_GT(paper_ratio, 5.f);  // one miss outweighs five exact views
-  // This Gaussian is wide and S about 0.6 over its footprint, so the weight
-  // is far from 0 in the miss (about 0.55, against 0.7 in an exact view);
-  // where S is near 1 under a miss it is near 0.
-  EXPECT_LT(weighted_ratio, 0.8f * paper_ratio);
-  EXPECT_GT(weighted_exact[FloaterScene::kFloater], 0.f);
 }
 
 // The unprotected labels must not meet any ID a map may show, even IDs no
