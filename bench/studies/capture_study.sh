@@ -12,9 +12,11 @@
 #
 # A condition is a name and op2gs-synth options, name=options with commas for
 # spaces: clean=  exposure=--exposure,0.25,--white-balance,0.03
-# Variants (VARIANTS, default "plain"): plain (the paper's recipe), robust
+# Variants (VARIANTS, default "plain"), each the paper's recipe (op2gs-learn
+# --recipe paper) with the change its name says: plain (none), robust
 # (op2gs-learn --recipe robust: the generalized cross-entropy),
-# robust-outline (op2gs-learn --recipe robust-outline), joined
+# robust-outline (op2gs-learn --recipe robust-outline, op2gs-learn's
+# default), joined
 # (op2gs-vote --join-switched-ids), tracks (and --find-merges), exposure
 # (op2gs-train --exposure-compensation), exposure+joined, exposure+tracks; and for the sensitivity study,
 # one value changed from the paper's: lambda-<lambda_o>, m-<M>, tau-<tau>,
@@ -76,7 +78,7 @@ for condition in "$@"; do
       > "$dir/synth.log" 2>&1
     for variant in $variants; do
       train_options=() vote_options=() learn_options=() render_options=()
-      recipe="$variant" protect=""
+      recipe="$variant" protect="" object_loss=paper
       if [[ "$recipe" == protect-* ]]; then
         protect="${recipe#protect-}" recipe=plain
       elif [[ "$recipe" == *+protect-* ]]; then
@@ -84,8 +86,8 @@ for condition in "$@"; do
       fi
       case "$recipe" in
         plain) ;;
-        robust) learn_options=(--recipe robust) ;;
-        robust-outline) learn_options=(--recipe robust-outline) ;;
+        robust) object_loss=robust ;;
+        robust-outline) object_loss=robust-outline ;;
         fast)
           train_options=(--recipe fast)
           learn_options=(--sparse-adam --half-views-from 1)
@@ -95,9 +97,13 @@ for condition in "$@"; do
         tau-*) render_options=(--tau "${variant#tau-}") ;;
         init-*) learn_options=(--sigma-star-init "${variant#init-}") ;;
         plain-seed-*) learn_options=(--seed "${variant#plain-seed-}") ;;
-        robust-seed-*) learn_options=(--recipe robust --seed "${variant#robust-seed-}") ;;
+        robust-seed-*)
+          object_loss=robust
+          learn_options=(--seed "${variant#robust-seed-}")
+          ;;
         robust-outline-seed-*)
-          learn_options=(--recipe robust-outline --seed "${variant#robust-outline-seed-}")
+          object_loss=robust-outline
+          learn_options=(--seed "${variant#robust-outline-seed-}")
           ;;
         joined) vote_options=(--join-switched-ids) ;;
         exposure) train_options=(--exposure-compensation) ;;
@@ -133,6 +139,7 @@ for condition in "$@"; do
           ;;
         *) echo "unknown variant $variant" >&2; exit 2 ;;
       esac
+      learn_options+=(--recipe "$object_loss")
       [ -n "$protect" ] && learn_options+=(--protect-agreement "$protect")
       # Variants that train alike share stage one.
       suffix=""

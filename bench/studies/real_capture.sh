@@ -33,7 +33,9 @@
 # an hour on 2 cores), ITERATIONS (7500), STAGE_ONE (5000), RESOLUTION (2: the
 # photos at 640x360), SEED (of the mask errors, 1), MASK_ERRORS (options of
 # op2gs-mask-errors), VARIANTS ("paper": op2gs-learn's options per variant,
-# name=options with commas for spaces, e.g. "paper protect=--protect-agreement,0.9"),
+# name=options with commas for spaces, e.g. "paper outline=--recipe,robust-outline";
+# the bare name "paper" is --recipe paper, the paper's recipe exactly, any
+# other bare name op2gs-learn's defaults),
 # CONDITIONS ("exact sam2like"; "video" adds the whole-video errors),
 # TRAIN_OPTS (op2gs-train's options, e.g. "--recipe fast"), VOTE_OPTS
 # (op2gs-vote's options for every variant, e.g. the track remedies
@@ -187,6 +189,7 @@ for condition in $conditions; do
     label="${variant%%=*}"
     options=()
     [[ "$variant" == *=* ]] && IFS=, read -r -a options <<< "${variant#*=}"
+    [ "$variant" = paper ] && options=(--recipe paper)
     run="$work/$condition-$label"
     echo "== $name: $condition masks, $label ${options[*]:-} ${vote_options[*]:-}"
     common=(--resolution "$resolution" --split lerf --id-maps "$maps")

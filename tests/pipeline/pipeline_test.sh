@@ -79,13 +79,28 @@ mk DATASET=3dovs DATA_ROOT="$tmp/fx/3dovs" WORK_ROOT="$tmp/ovs" -n bed.sfm | gre
   fail "3DOVS SfM does not keep the LLFF cameras"
 mk DATASET=3dovs DATA_ROOT="$tmp/fx/3dovs" WORK_ROOT="$tmp/ovs" -n bed.eval |
   grep -- "--protocol 3dovs-lerf" > /dev/null || fail "3DOVS protocol"
-# RECIPE=fast reaches both training stages; the paper's recipe is the default.
-mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" RECIPE=fast \
-  -n figurines.learn > "$tmp/fast.log"
-grep -q -- "op2gs-train.*--recipe fast" "$tmp/fast.log" || { cat "$tmp/fast.log"; fail "RECIPE=fast: op2gs-train"; }
-grep -q -- "op2gs-learn.*--sparse-adam --half-views-from 1" "$tmp/fast.log" || fail "RECIPE=fast: op2gs-learn"
-mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" -n figurines.learn |
-  grep -- "op2gs-train.*--recipe paper" > /dev/null || fail "the paper's recipe is not the default"
+# Each recipe reaches both training stages: by default the paper's stage one
+# and op2gs-learn's robust-outline; RECIPE=paper is the paper's recipe in
+# both; RECIPE=fast the fast stage one and sparse Adam in stage two.
+recipe_of() {
+  mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" "$@" -n figurines.learn \
+    > "$tmp/recipe.log" || { cat "$tmp/recipe.log"; fail "make -n with $*"; }
+}
+expect() { grep -q -- "$1" "$tmp/recipe.log" || { cat "$tmp/recipe.log"; fail "$2"; }; }
+recipe_of
+expect "op2gs-train.*--recipe paper" "the default recipe: op2gs-train"
+expect "op2gs-learn.*--recipe robust-outline" "the default recipe: op2gs-learn"
+recipe_of RECIPE=paper
+expect "op2gs-train.*--recipe paper" "RECIPE=paper: op2gs-train"
+expect "op2gs-learn.*--recipe paper" "RECIPE=paper: op2gs-learn"
+recipe_of RECIPE=fast
+expect "op2gs-train.*--recipe fast" "RECIPE=fast: op2gs-train"
+expect "op2gs-learn.*--recipe robust-outline --sparse-adam --half-views-from 1" "RECIPE=fast: op2gs-learn"
+if mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" RECIPE=papr \
+  -n figurines.learn > "$tmp/recipe.log" 2>&1; then
+  fail "RECIPE=papr was accepted"
+fi
+grep -q "RECIPE=papr: default, paper or fast" "$tmp/recipe.log" || { cat "$tmp/recipe.log"; fail "RECIPE=papr's error"; }
 # Without the CLIP files a run still evaluates oracle mode, saying why query
 # mode is n/a, and neither embeds nor queries.
 mk DATASET=lerf-mask DATA_ROOT="$tmp/fx/lerf_mask" WORK_ROOT="$tmp/lerf" CLIP="$tmp/no-clip" \
