@@ -52,6 +52,7 @@ void add_scene(const fs::path& out, const SceneData& s, const ReportOptions& o,
                               s.metrics["image_quality"]["psnr"].get<double>(),
                               s.metrics["image_quality"]["ssim"].get<double>()));
   if (const std::string fitted = fitted_psnr_note(s.input); !fitted.empty()) doc.paragraph(fitted);
+  if (const std::string loss = object_loss_note(s.input); !loss.empty()) doc.paragraph(loss);
   if (o.viewer && !s.input.model.empty()) add_viewer(out, s.input, doc);
   for (const Table& t : floater_tables(s.input)) doc.table(t);
   doc.table(query_table(s));

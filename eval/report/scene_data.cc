@@ -88,6 +88,32 @@ std::string fitted_psnr_note(const SceneReportInput& in) {
       m["psnr_fitted_right_half"].get<double>(), m.value("psnr", NAN));
 }
 
+std::string object_loss_note(const SceneReportInput& in) {
+  if (in.training_metrics.empty() || !fs::exists(in.training_metrics)) return "";
+  const json m = json::parse(splat::read_text_file(in.training_metrics));
+  if (!m.contains("object_loss")) return "";
+  const json& loss = m["object_loss"];
+  std::string what, recipe;
+  if (loss.value("pixel_loss", "") == "cross-entropy") {
+    what = "the paper's binary cross-entropy";
+    recipe = "paper";
+  } else if (loss.contains("cross_entropy_near_model_outline")) {
+    what = fmt::format(
+        "the generalized cross-entropy (q = {:g}), and the paper's cross-entropy within {} "
+        "pixels of the outline of the model's own mask",
+        loss.value("q", NAN), loss["cross_entropy_near_model_outline"].get<int>());
+    recipe = "robust-outline";
+  } else {
+    what = fmt::format("the generalized cross-entropy (q = {:g})", loss.value("q", NAN));
+    recipe = "robust";
+  }
+  if (!loss.value("reshapes_geometry", true)) what += ", reaching sigma* only";
+  std::string note =
+      fmt::format("Stage two's object loss: {} (op2gs-learn --recipe {})", what, recipe);
+  if (recipe != "paper") note += "; the paper's recipe is --recipe paper";
+  return note + ".";
+}
+
 const Row* find_row(const SceneData& s, const std::string& key) {
   for (const Row& r : s.rows)
     if (r.key() == key) return &r;

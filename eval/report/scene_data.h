@@ -67,6 +67,11 @@ std::string scene_notes(const SceneData& s);
 // empty otherwise.
 std::string fitted_psnr_note(const SceneReportInput& in);
 
+// Which object loss made sigma* (stage two's metrics.json), so that a run's
+// figures set beside the paper's say whether they are the paper's recipe;
+// empty when stage two's metrics are not given or predate that record.
+std::string object_loss_note(const SceneReportInput& in);
+
 // The scene's row of that key, or null.
 const Row* find_row(const SceneData& s, const std::string& key);
 

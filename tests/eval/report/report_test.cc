@@ -106,6 +106,38 @@ TEST(Report, ShowsFloatersAndTheColourFittedPsnrWhenMeasured) {
   EXPECT_NE(md.find("NeRF in the Wild"), std::string::npos);
 }
 
+// The default object loss is not the paper's, so a report beside the paper's
+// figures says which one made sigma* (stage two's metrics.json, as written by
+// splat/train/train_run.cc).
+TEST(Report, NamesTheObjectLossThatMadeSigmaStar) {
+  const testing_util::TempDir tmp;
+  const auto note = [&](const std::string& learn_metrics) {
+    splat::write_text_atomically(tmp / "learn.json", learn_metrics);
+    ReportOptions o;
+    SceneReportInput s{"tiny", scored().scene, scored().metrics, {}, {}, {}};
+    s.training_metrics = tmp / "learn.json";
+    o.scenes = {s};
+    o.figures = false;
+    const std::string md = splat::read_text_file(write_report(tmp / "report", o).markdown);
+    const size_t at = md.find("Stage two's object loss: ");
+    return at == std::string::npos ? std::string() : md.substr(at, md.find('\n', at) - at);
+  };
+  EXPECT_EQ(note(R"({"psnr": 24.5, "object_loss": {"pixel_loss": "cross-entropy"}})"),
+            "Stage two's object loss: the paper's binary cross-entropy (op2gs-learn --recipe "
+            "paper).");
+  EXPECT_EQ(note(R"({"object_loss": {"pixel_loss": "generalized cross-entropy",
+                  "q": 0.699999988079071, "cross_entropy_near_model_outline": 3}})"),
+            "Stage two's object loss: the generalized cross-entropy (q = 0.7), and the paper's "
+            "cross-entropy within 3 pixels of the outline of the model's own mask (op2gs-learn "
+            "--recipe robust-outline); the paper's recipe is --recipe paper.");
+  EXPECT_EQ(note(R"({"object_loss": {"pixel_loss": "generalized cross-entropy", "q": 0.5,
+                  "reshapes_geometry": false}})"),
+            "Stage two's object loss: the generalized cross-entropy (q = 0.5), reaching sigma* "
+            "only (op2gs-learn --recipe robust); the paper's recipe is --recipe paper.");
+  // Stage one's metrics, or stage two's from before the record: nothing said.
+  EXPECT_EQ(note(R"({"psnr": 24.5})"), "");
+}
+
 TEST(Report, SaysWhichTestViewsHaveNoGroundTruth) {
   const testing_util::TempDir tmp;
   nlohmann::json m = nlohmann::json::parse(splat::read_text_file(scored().metrics));
