@@ -71,7 +71,10 @@ int main(int argc, char** argv) {
                  "the model's own mask of the object, where the generalized loss would dilate "
                  "the masks; paper: the paper's binary cross-entropy everywhere (the paper's "
                  "recipe exactly); robust: the generalized cross-entropy everywhere")
-      ->capture_default_str();
+      ->capture_default_str()
+      // The last one given wins, so that LEARN_OPTS / TRAIN_OPTS override the
+      // pipeline's RECIPE.
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.add_option("--gce-q", o.train.object_loss.pixel_loss.q,
                  "q of the generalized cross-entropy (--recipe robust, robust-outline), in (0, 1]")
       ->capture_default_str();

@@ -16,7 +16,10 @@ int main(int argc, char** argv) {
                  "paper: the reference 3DGS recipe; fast: sparse Adam, a resolution schedule "
                  "(the views at a quarter size at first, full size from half the densification "
                  "window on) and, from there on, half views (docs/stages.md)")
-      ->capture_default_str();
+      ->capture_default_str()
+      // The last one given wins, so that LEARN_OPTS / TRAIN_OPTS override the
+      // pipeline's RECIPE.
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.add_option("--densify-from", o.train.densify_from, "first densification iteration")
       ->capture_default_str();
   app.add_option("--densify-until", o.train.densify_until, "last densification iteration")
