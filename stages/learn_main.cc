@@ -72,8 +72,8 @@ int main(int argc, char** argv) {
                  "the masks; paper: the paper's binary cross-entropy everywhere (the paper's "
                  "recipe exactly); robust: the generalized cross-entropy everywhere")
       ->capture_default_str()
-      // The last one given wins, so that LEARN_OPTS / TRAIN_OPTS override the
-      // pipeline's RECIPE.
+      // The last one given wins, so that the pipeline's LEARN_OPTS overrides its
+      // RECIPE.
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.add_option("--gce-q", o.train.object_loss.pixel_loss.q,
                  "q of the generalized cross-entropy (--recipe robust, robust-outline), in (0, 1]")

@@ -17,8 +17,8 @@ int main(int argc, char** argv) {
                  "(the views at a quarter size at first, full size from half the densification "
                  "window on) and, from there on, half views (docs/stages.md)")
       ->capture_default_str()
-      // The last one given wins, so that LEARN_OPTS / TRAIN_OPTS override the
-      // pipeline's RECIPE.
+      // The last one given wins, so that the pipeline's TRAIN_OPTS overrides its
+      // RECIPE.
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.add_option("--densify-from", o.train.densify_from, "first densification iteration")
       ->capture_default_str();
