@@ -77,9 +77,18 @@ std::string query_mode_note(const std::vector<SceneData>& scenes) {
   return "";
 }
 
+namespace {
+
+// Stage two's metrics.json, or an empty object when it is not given.
+json training_metrics(const SceneReportInput& in) {
+  if (in.training_metrics.empty() || !fs::exists(in.training_metrics)) return json::object();
+  return json::parse(splat::read_text_file(in.training_metrics));
+}
+
+}  // namespace
+
 std::string fitted_psnr_note(const SceneReportInput& in) {
-  if (in.training_metrics.empty() || !fs::exists(in.training_metrics)) return "";
-  const json m = json::parse(splat::read_text_file(in.training_metrics));
+  const json m = training_metrics(in);
   if (!m.contains("psnr_fitted_right_half") || !m["psnr_fitted_right_half"].is_number()) return "";
   return fmt::format(
       "Test PSNR after a colour transform fitted on each test view's left half, scored on its "
@@ -89,8 +98,7 @@ std::string fitted_psnr_note(const SceneReportInput& in) {
 }
 
 std::string object_loss_note(const SceneReportInput& in) {
-  if (in.training_metrics.empty() || !fs::exists(in.training_metrics)) return "";
-  const json m = json::parse(splat::read_text_file(in.training_metrics));
+  const json m = training_metrics(in);
   if (!m.contains("object_loss")) return "";
   const json& loss = m["object_loss"];
   std::string what, recipe;
