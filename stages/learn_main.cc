@@ -78,6 +78,10 @@ int main(int argc, char** argv) {
   app.add_option("--gce-q", o.train.object_loss.pixel_loss.q,
                  "q of the generalized cross-entropy (--recipe robust, robust-outline), in (0, 1]")
       ->capture_default_str();
+  app.add_option("--outline-q", o.train.object_loss.pixel_loss.outline_q,
+                 "--recipe robust-outline: q of the generalized cross-entropy within the band "
+                 "along the model's outline, in [0, 1]; 0: the cross-entropy there")
+      ->capture_default_str();
   app.add_option("--lr-instance-opacity", o.train.lr_instance_opacity,
                  "learning rate of sigma* (as a logit)")
       ->capture_default_str();

@@ -105,6 +105,13 @@ std::string object_loss_note(const SceneReportInput& in) {
   if (loss.value("pixel_loss", "") == "cross-entropy") {
     what = "the paper's binary cross-entropy";
     recipe = "paper";
+  } else if (loss.contains("q_near_model_outline")) {
+    const double band_q = loss["q_near_model_outline"].get<double>();
+    what = fmt::format(
+        "the generalized cross-entropy (q = {:g}), and q = {:g} within {} pixels of the "
+        "outline of the model's own mask",
+        loss.value("q", NAN), band_q, loss.value("cross_entropy_near_model_outline", 0));
+    recipe = fmt::format("robust-outline --outline-q {:g}", band_q);
   } else if (loss.contains("cross_entropy_near_model_outline")) {
     what = fmt::format(
         "the generalized cross-entropy (q = {:g}), and the paper's cross-entropy within {} "

@@ -51,6 +51,9 @@ void ObjectLossOptions::Check() const {
   if (pixel_loss.kind == PixelLoss::Kind::kGeneralized && !(pixel_loss.q > 0 && pixel_loss.q <= 1))
     throw std::invalid_argument("the generalized cross-entropy's q must be in (0, 1]");
   if (pixel_loss.outline_band < 0) throw std::invalid_argument("the outline band must be >= 0");
+  if (!(pixel_loss.outline_q >= 0 && pixel_loss.outline_q <= 1))
+    throw std::invalid_argument(
+        "the generalized cross-entropy's q near the outline must be in [0, 1]");
   if (protected_agreement > 0 && label_agreement.empty())
     throw std::invalid_argument("protecting sigma* needs op2gs-vote's label agreement file");
 }
@@ -130,11 +133,11 @@ double object_loss_sum(const float* S, const uint16_t* ids, int32_t label, size_
 
 // The generalized cross-entropy (PixelLoss): weight * scale * dLoss/dS of
 // one plane, d/dS (1 - p^q) / q = -p^(q-1) dp/dS, zero where the clamp is
-// active; the cross-entropy's (s - b) / (s (1 - s)) where cross_entropy_at
-// (if not null) is 1. The powers only where S is not clamped: most pixels
-// are.
+// active. Where band (if not null) is 1, q is band_q, and band_q = 0 is the
+// cross-entropy's (s - b) / (s (1 - s)). The powers only where S is not
+// clamped: most pixels are.
 void generalized_loss_gradient(const float* S, const uint16_t* ids, int32_t label, size_t pixels,
-                               double weight_scale, double q, const uint8_t* cross_entropy_at,
+                               double weight_scale, double q, const uint8_t* band, double band_q,
                                float* g) {
   for (size_t p = 0; p < pixels; ++p) {
     if (!(S[p] > kLow && S[p] < kHigh)) {
@@ -143,40 +146,43 @@ void generalized_loss_gradient(const float* S, const uint16_t* ids, int32_t labe
     }
     const double s = S[p];
     const bool b = ids[p] == label;
-    if (cross_entropy_at && cross_entropy_at[p])
+    const bool in_band = band && band[p];
+    const double q_here = in_band ? band_q : q;
+    if (in_band && band_q == 0)
       g[p] = float(weight_scale * (s - double(b)) / (s * (1 - s)));  // as the paper's
     else
-      g[p] = float(b ? -weight_scale * std::pow(s, q - 1) : weight_scale * std::pow(1 - s, q - 1));
+      g[p] = float(b ? -weight_scale * std::pow(s, q_here - 1)
+                     : weight_scale * std::pow(1 - s, q_here - 1));
   }
 }
 
 // The sum over one plane of (1 - p^q) / q, p = s where b, else 1 - s, s
-// clamped; -log p where cross_entropy_at (if not null) is 1. Where the clamp
-// is active (most pixels) the terms of the clamp's bounds, computed once.
+// clamped; with band_q for q where band (if not null) is 1, and -log p
+// there if band_q = 0. Where the clamp is active (most pixels) the terms of
+// the clamp's bounds, computed once.
 double generalized_loss_sum(const float* S, const uint16_t* ids, int32_t label, size_t pixels,
-                            double q, const uint8_t* cross_entropy_at) {
-  const auto generalized = [q](double p) { return (1 - std::pow(p, q)) / q; };
-  const auto cross_entropy = [](double p) { return -std::log(p); };
-  // The terms where S is clamped: [cross-entropy][S at the high bound][b].
+                            double q, const uint8_t* band, double band_q) {
+  const auto pixel_loss = [](double p, double q_here) {
+    return q_here == 0 ? -std::log(p) : (1 - std::pow(p, q_here)) / q_here;
+  };
+  // The terms where S is clamped: [in the band][S at the high bound][b].
   double at_bound[2][2][2];
-  for (int ce = 0; ce < 2; ++ce)
+  for (int in_band = 0; in_band < 2; ++in_band)
     for (int high = 0; high < 2; ++high)
       for (int b = 0; b < 2; ++b) {
         const double s = high ? kHigh : kLow, prob = b ? s : 1 - s;
-        at_bound[ce][high][b] = ce ? cross_entropy(prob) : generalized(prob);
+        at_bound[in_band][high][b] = pixel_loss(prob, in_band ? band_q : q);
       }
   double sum = 0;
   for (size_t p = 0; p < pixels; ++p) {
     const bool b = ids[p] == label;
-    const bool ce = cross_entropy_at && cross_entropy_at[p];
+    const bool in_band = band && band[p];
     if (S[p] <= kLow)
-      sum += at_bound[ce][0][b];
+      sum += at_bound[in_band][0][b];
     else if (S[p] >= kHigh)
-      sum += at_bound[ce][1][b];
-    else {
-      const double prob = b ? double(S[p]) : 1 - double(S[p]);
-      sum += ce ? cross_entropy(prob) : generalized(prob);
-    }
+      sum += at_bound[in_band][1][b];
+    else
+      sum += pixel_loss(b ? double(S[p]) : 1 - double(S[p]), in_band ? band_q : q);
   }
   return sum;
 }
@@ -226,20 +232,20 @@ double object_loss(std::span<const float> maps, const std::vector<int32_t>& labe
       for (size_t p = 0; p < pixels; ++p) inside[p] = S[p] >= pixel_loss.mask_threshold;
       near_model_outline = near_outline(inside, ids.width, ids.height, pixel_loss.outline_band);
     }
-    const uint8_t* cross_entropy_at = banded ? near_model_outline.data() : nullptr;
+    const uint8_t* band = banded ? near_model_outline.data() : nullptr;
     if (grad)
       tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const auto& r) {
         const size_t at = r.begin();
         float* g = &(*grad)[j * pixels + at];
         if (generalized)
           generalized_loss_gradient(S + at, &ids.ids[at], labels[j], r.size(), weight * scale, q,
-                                    cross_entropy_at ? cross_entropy_at + at : nullptr, g);
+                                    band ? band + at : nullptr, pixel_loss.outline_q, g);
         else
           object_loss_gradient(S + at, &ids.ids[at], labels[j], r.size(), weight * scale, g);
       });
-    sums[j] = generalized
-                  ? generalized_loss_sum(S, ids.ids.data(), labels[j], pixels, q, cross_entropy_at)
-                  : object_loss_sum(S, ids.ids.data(), labels[j], pixels);
+    sums[j] = generalized ? generalized_loss_sum(S, ids.ids.data(), labels[j], pixels, q, band,
+                                                 pixel_loss.outline_q)
+                          : object_loss_sum(S, ids.ids.data(), labels[j], pixels);
   });
   double loss = 0;
   for (double sum : sums) loss += sum;

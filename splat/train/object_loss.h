@@ -60,6 +60,13 @@ struct PixelLoss {
   // kGeneralized: the cross-entropy at the pixels within this many pixels
   // (a square window) of the outline of the model's mask; 0: nowhere.
   int outline_band = 0;
+  // q of the generalized loss within the band; 0: the cross-entropy there.
+  // Why a q between: the cross-entropy regresses S_j on the mean of the
+  // views' masks, which jittered outlines bring to about a half along the
+  // true outline, so a share of its pixels falls below tau (false
+  // negatives along every outline); a small q sharpens that mean less than
+  // q does elsewhere, which leaves the Gaussians' tails less room to dilate.
+  double outline_q = 0;
   float mask_threshold = 0.5f;  // tau, the rendered masks' threshold on S_j
 };
 

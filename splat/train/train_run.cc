@@ -186,6 +186,9 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
                            : json{{"pixel_loss", "cross-entropy"}};
     if (pixel.kind == PixelLoss::Kind::kGeneralized && pixel.outline_band > 0)
       m["object_loss"]["cross_entropy_near_model_outline"] = pixel.outline_band;
+    if (pixel.kind == PixelLoss::Kind::kGeneralized && pixel.outline_band > 0 &&
+        pixel.outline_q > 0)
+      m["object_loss"]["q_near_model_outline"] = pixel.outline_q;
     if (!o.train.object_loss.reshapes_geometry) m["object_loss"]["reshapes_geometry"] = false;
   }
   // What of the fast recipe made the model (none of it in the paper's).

@@ -130,6 +130,11 @@ TEST(Report, NamesTheObjectLossThatMadeSigmaStar) {
             "Stage two's object loss: the generalized cross-entropy (q = 0.7), and the paper's "
             "cross-entropy within 3 pixels of the outline of the model's own mask (op2gs-learn "
             "--recipe robust-outline); the paper's recipe is --recipe paper.");
+  EXPECT_EQ(note(R"({"object_loss": {"pixel_loss": "generalized cross-entropy", "q": 0.7,
+                  "cross_entropy_near_model_outline": 3, "q_near_model_outline": 0.35}})"),
+            "Stage two's object loss: the generalized cross-entropy (q = 0.7), and q = 0.35 "
+            "within 3 pixels of the outline of the model's own mask (op2gs-learn --recipe "
+            "robust-outline --outline-q 0.35); the paper's recipe is --recipe paper.");
   EXPECT_EQ(note(R"({"object_loss": {"pixel_loss": "generalized cross-entropy", "q": 0.5,
                   "reshapes_geometry": false}})"),
             "Stage two's object loss: the generalized cross-entropy (q = 0.5), reaching sigma* "

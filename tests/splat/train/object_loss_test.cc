@@ -77,18 +77,20 @@ double reference_object_loss(const std::vector<float>& maps, const std::vector<i
       const double b = ids.ids[p] == labels[j] ? 1.0 : 0.0;
       const double s = std::clamp(double(S), eps, 1 - eps);
       const double prob = b ? s : 1 - s;
-      const bool generalized = loss.kind == PixelLoss::Kind::kGeneralized &&
-                               !(loss.outline_band > 0 &&
-                                 near_outline_by_search(&maps[j * pixels], ids.width, ids.height,
-                                                        loss.mask_threshold, p, loss.outline_band));
+      const bool in_band = loss.kind == PixelLoss::Kind::kGeneralized && loss.outline_band > 0 &&
+                           near_outline_by_search(&maps[j * pixels], ids.width, ids.height,
+                                                  loss.mask_threshold, p, loss.outline_band);
+      const double q_here = in_band ? loss.outline_q : q;
+      const bool generalized =
+          loss.kind == PixelLoss::Kind::kGeneralized && !(in_band && loss.outline_q == 0);
       if (generalized)
-        sum += (1 - std::pow(prob, q)) / q;
+        sum += (1 - std::pow(prob, q_here)) / q_here;
       else
         sum -= b * std::log(s) + (1 - b) * std::log(1 - s);
       if (S > eps && S < 1 - eps)  // generalized: dL/dS = -prob^(q-1) dprob/dS
-        grad[j * pixels + p] =
-            float(weight * scale *
-                  (generalized ? -std::pow(prob, q - 1) * (b ? 1 : -1) : (s - b) / (s * (1 - s))));
+        grad[j * pixels + p] = float(
+            weight * scale *
+            (generalized ? -std::pow(prob, q_here - 1) * (b ? 1 : -1) : (s - b) / (s * (1 - s))));
     }
     total += sum;
   }
@@ -133,13 +135,19 @@ PixelLoss generalized(double q) { return {PixelLoss::Kind::kGeneralized, q}; }
 PixelLoss generalized_off_outline(double q, int band) {
   return {PixelLoss::Kind::kGeneralized, q, band};
 }
+PixelLoss generalized_with_outline_q(double q, int band, double outline_q) {
+  PixelLoss loss{PixelLoss::Kind::kGeneralized, q, band};
+  loss.outline_q = outline_q;
+  return loss;
+}
 
 TEST(ObjectLoss, GeneralizedLossesEqualTheirPerPixelFormula) {
   const LossCase c(11);
   const auto& [ids, labels, maps] = c;
   for (double q : {0.7, 0.3, 1.0})
     for (const PixelLoss& pixel_loss :
-         {generalized(q), generalized_off_outline(q, 1), generalized_off_outline(q, 3)}) {
+         {generalized(q), generalized_off_outline(q, 1), generalized_off_outline(q, 3),
+          generalized_with_outline_q(q, 2, 0.35), generalized_with_outline_q(q, 3, 1.0)}) {
       const int kind = pixel_loss.outline_band;
       std::vector<float> grad, expected_grad;
       const double loss = object_loss(maps, labels, ids, 0.1f, &grad, pixel_loss);
@@ -156,6 +164,7 @@ TEST(ObjectLoss, GeneralizedLossesEqualTheirPerPixelFormula) {
 TEST(ObjectLoss, GeneralizedGradientsMatchFiniteDifferences) {
   expect_gradient_matches_finite_differences(generalized(0.7), 2e-3);
   expect_gradient_matches_finite_differences(generalized_off_outline(0.7, 2), 2e-3);
+  expect_gradient_matches_finite_differences(generalized_with_outline_q(0.7, 2, 0.35), 2e-3);
 }
 
 // A square of an object in a 12 x 10 image: the pixels near its outline are
@@ -205,6 +214,17 @@ TEST(ObjectLoss, TheOutlineBandIsThePapersLossNearTheModelsOutline) {
   EXPECT_FALSE(near[at(7, 5)]);   // the missed blob
   EXPECT_FALSE(near[at(15, 8)]);  // the leak
   EXPECT_NE(banded[at(7, 5)], paper[at(7, 5)]);
+}
+
+// The band's q between: q near the outline equal to q elsewhere is the
+// generalized loss everywhere, to the last bit.
+TEST(ObjectLoss, TheOutlinesQEqualToQIsTheGeneralizedLossEverywhere) {
+  const LossCase c(5);
+  const auto& [ids, labels, maps] = c;
+  std::vector<float> everywhere, banded;
+  EXPECT_EQ(object_loss(maps, labels, ids, 0.1f, &everywhere, generalized(0.5)),
+            object_loss(maps, labels, ids, 0.1f, &banded, generalized_with_outline_q(0.5, 2, 0.5)));
+  EXPECT_EQ(everywhere, banded);
 }
 
 TEST(ObjectLoss, TheDefaultIsThePapersCrossEntropy) {
