@@ -54,6 +54,10 @@ void ObjectLossOptions::Check() const {
   if (!(pixel_loss.outline_q >= 0 && pixel_loss.outline_q <= 1))
     throw std::invalid_argument(
         "the generalized cross-entropy's q near the outline must be in [0, 1]");
+  if (pixel_loss.outline_q > 0 &&
+      !(pixel_loss.kind == PixelLoss::Kind::kGeneralized && pixel_loss.outline_band > 0))
+    throw std::invalid_argument(
+        "a q near the outline needs the generalized loss with an outline band (robust-outline)");
   if (protected_agreement > 0 && label_agreement.empty())
     throw std::invalid_argument("protecting sigma* needs op2gs-vote's label agreement file");
 }

@@ -227,6 +227,16 @@ TEST(ObjectLoss, TheOutlinesQEqualToQIsTheGeneralizedLossEverywhere) {
   EXPECT_EQ(everywhere, banded);
 }
 
+TEST(ObjectLoss, AQNearTheOutlineNeedsTheBand) {
+  ObjectLossOptions o;
+  o.pixel_loss.outline_q = 0.35;
+  EXPECT_THROW(o.Check(), std::invalid_argument);  // the paper's loss: no band
+  o.pixel_loss = generalized_with_outline_q(0.7, 3, 0.35);
+  EXPECT_NO_THROW(o.Check());
+  o.pixel_loss.outline_q = 1.5;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
+}
+
 TEST(ObjectLoss, TheDefaultIsThePapersCrossEntropy) {
   IdMap ids(3, 1);
   ids.ids = {1, 0, 1};
