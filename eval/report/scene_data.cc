@@ -105,19 +105,16 @@ std::string object_loss_note(const SceneReportInput& in) {
   if (loss.value("pixel_loss", "") == "cross-entropy") {
     what = "the paper's binary cross-entropy";
     recipe = "paper";
-  } else if (loss.contains("q_near_model_outline")) {
-    const double band_q = loss["q_near_model_outline"].get<double>();
-    what = fmt::format(
-        "the generalized cross-entropy (q = {:g}), and q = {:g} within {} pixels of the "
-        "outline of the model's own mask",
-        loss.value("q", NAN), band_q, loss.value("cross_entropy_near_model_outline", 0));
-    recipe = fmt::format("robust-outline --outline-q {:g}", band_q);
   } else if (loss.contains("cross_entropy_near_model_outline")) {
+    // Within the band: the paper's cross-entropy, or a q of its own (--outline-q).
+    const double band_q = loss.value("q_near_model_outline", 0.0);
     what = fmt::format(
-        "the generalized cross-entropy (q = {:g}), and the paper's cross-entropy within {} "
-        "pixels of the outline of the model's own mask",
-        loss.value("q", NAN), loss["cross_entropy_near_model_outline"].get<int>());
-    recipe = "robust-outline";
+        "the generalized cross-entropy (q = {:g}), and {} within {} pixels of the outline of the "
+        "model's own mask",
+        loss.value("q", NAN),
+        band_q > 0 ? fmt::format("q = {:g}", band_q) : "the paper's cross-entropy",
+        loss["cross_entropy_near_model_outline"].get<int>());
+    recipe = band_q > 0 ? fmt::format("robust-outline --outline-q {:g}", band_q) : "robust-outline";
   } else {
     what = fmt::format("the generalized cross-entropy (q = {:g})", loss.value("q", NAN));
     recipe = "robust";

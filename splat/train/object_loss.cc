@@ -166,7 +166,7 @@ void generalized_loss_gradient(const float* S, const uint16_t* ids, int32_t labe
 // the clamp's bounds, computed once.
 double generalized_loss_sum(const float* S, const uint16_t* ids, int32_t label, size_t pixels,
                             double q, const uint8_t* band, double band_q) {
-  const auto pixel_loss = [](double p, double q_here) {
+  const auto loss_at = [](double p, double q_here) {
     return q_here == 0 ? -std::log(p) : (1 - std::pow(p, q_here)) / q_here;
   };
   // The terms where S is clamped: [in the band][S at the high bound][b].
@@ -175,7 +175,7 @@ double generalized_loss_sum(const float* S, const uint16_t* ids, int32_t label, 
     for (int high = 0; high < 2; ++high)
       for (int b = 0; b < 2; ++b) {
         const double s = high ? kHigh : kLow, prob = b ? s : 1 - s;
-        at_bound[in_band][high][b] = pixel_loss(prob, in_band ? band_q : q);
+        at_bound[in_band][high][b] = loss_at(prob, in_band ? band_q : q);
       }
   double sum = 0;
   for (size_t p = 0; p < pixels; ++p) {
@@ -186,7 +186,7 @@ double generalized_loss_sum(const float* S, const uint16_t* ids, int32_t label, 
     else if (S[p] >= kHigh)
       sum += at_bound[in_band][1][b];
     else
-      sum += pixel_loss(b ? double(S[p]) : 1 - double(S[p]), in_band ? band_q : q);
+      sum += loss_at(b ? double(S[p]) : 1 - double(S[p]), in_band ? band_q : q);
   }
   return sum;
 }
