@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
                  "--recipe robust-outline: q of the generalized cross-entropy within the band "
                  "along the model's outline, in [0, 1]; 0: the cross-entropy there. Above 0 it "
                  "sharpens the outline that jittered masks blur, and follows masks that are "
-                 "loose or tight in every view (docs/benchmarks.md)")
+                 "loose in every view outwards, where it loses to 0 (docs/benchmarks.md)")
       ->capture_default_str();
   app.add_option("--lr-instance-opacity", o.train.lr_instance_opacity,
                  "learning rate of sigma* (as a logit)")

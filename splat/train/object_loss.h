@@ -67,8 +67,10 @@ struct PixelLoss {
   // negatives along every outline); a small q sharpens that mean less than
   // q does elsewhere, which leaves the Gaussians' tails less room to dilate.
   // Measured at 0.35 (docs/benchmarks.md, "A q between the cross-entropy and
-  // the rest in the band"): it closed a real capture's gap to exact masks
-  // and lost with masks loose or tight in every view, so 0 stays the default.
+  // the rest in the band" and the section after it): it closed two real
+  // captures' gap to exact masks, and it lost more where an object's masks
+  // were loose in every view than it gained where they were tight (the soft
+  // edge undoes part of a dilation), so 0 stays the default.
   double outline_q = 0;
   float mask_threshold = 0.5f;  // tau, the rendered masks' threshold on S_j
 };
