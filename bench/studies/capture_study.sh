@@ -16,7 +16,7 @@
 # --recipe paper) with the change its name says: plain (none), robust
 # (op2gs-learn --recipe robust: the generalized cross-entropy),
 # robust-outline (op2gs-learn --recipe robust-outline, op2gs-learn's
-# default), joined
+# default), robust-outline-q-<q> (the same with --outline-q <q>), joined
 # (op2gs-vote --join-switched-ids), tracks (and --find-merges), exposure
 # (op2gs-train --exposure-compensation), exposure+joined, exposure+tracks; and for the sensitivity study,
 # one value changed from the paper's: lambda-<lambda_o>, m-<M>, tau-<tau>,
@@ -100,6 +100,10 @@ for condition in "$@"; do
         robust-seed-*)
           object_loss=robust
           learn_options=(--seed "${variant#robust-seed-}")
+          ;;
+        robust-outline-q-*)
+          object_loss=robust-outline
+          learn_options=(--outline-q "${variant#robust-outline-q-}")
           ;;
         robust-outline-seed-*)
           object_loss=robust-outline
