@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <bit>
@@ -201,17 +202,64 @@ std::vector<uint8_t> near_outline(std::span<const uint8_t> inside, int width, in
   if (pixels == 0) return {};
   // The square window holds a pixel inside where the dilation is 1, and one
   // outside where the erosion is 0; OpenCV's default border leaves pixels
-  // off the image out of both.
+  // off the image out of both. In stripes of rows, in parallel (OpenCV
+  // runs a morphology on one thread): a stripe is a view into the whole
+  // image, whose rows beyond the stripe OpenCV reads as its border, so each
+  // stripe is exactly its rows of the whole image's result.
   const cv::Mat in(height, width, CV_8U, const_cast<uint8_t*>(inside.data()));
   const cv::Mat window =
       cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * radius + 1, 2 * radius + 1));
-  cv::Mat any_in, all_in;
-  cv::dilate(in, any_in, window);
-  cv::erode(in, all_in, window);
+  // One stripe per thread (each call of a morphology sets up its filter,
+  // and a stripe reads its neighbours' rows within the radius again), of
+  // at least kMinRows rows.
+  constexpr int kMinRows = 128;
+  const int stripes = std::clamp(height / kMinRows, 1, tbb::this_task_arena::max_concurrency());
   std::vector<uint8_t> near(pixels);
-  for (size_t p = 0; p < pixels; ++p) near[p] = any_in.data[p] & (all_in.data[p] ^ 1);
+  tbb::parallel_for(0, stripes, [&](int k) {
+    const int first = int(int64_t(height) * k / stripes),
+              last = int(int64_t(height) * (k + 1) / stripes);
+    cv::Mat any_in, all_in;
+    cv::dilate(in.rowRange(first, last), any_in, window);
+    cv::erode(in.rowRange(first, last), all_in, window);
+    const uint8_t *any = any_in.data, *all = all_in.data;  // not reloaded after each store
+    uint8_t* out = &near[size_t(first) * size_t(width)];
+    const size_t n = size_t(last - first) * size_t(width);
+    for (size_t p = 0; p < n; ++p) out[p] = any[p] & (all[p] ^ 1);
+  });
   return near;
 }
+
+namespace {
+
+// The pixels of one task of the object loss: the gradient and the sum are
+// computed in chunks of this many pixels of a plane, and the chunks' sums
+// added in order, so the loss is the same double whatever the threads.
+constexpr size_t kLossChunk = size_t(1) << 16;
+
+// Per plane, 1 within pixel_loss.outline_band pixels of the outline of the
+// model's mask of the object (S >= tau); empty where the loss has no band.
+std::vector<std::vector<uint8_t>> outline_bands(std::span<const float> maps, size_t m,
+                                                const IdMap& ids, const PixelLoss& pixel_loss) {
+  std::vector<std::vector<uint8_t>> bands(m);
+  if (pixel_loss.kind != PixelLoss::Kind::kGeneralized || pixel_loss.outline_band <= 0)
+    return bands;
+  const size_t pixels = ids.ids.size();
+  tbb::parallel_for(size_t(0), m, [&](size_t j) {
+    const float* S = &maps[j * pixels];
+    std::vector<uint8_t> inside(pixels);
+    // Locals, not references: a byte store may alias what a reference reaches.
+    uint8_t* in = inside.data();
+    const float tau = pixel_loss.mask_threshold;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, kLossChunk),
+                      [S, in, tau](const auto& r) {
+                        for (size_t p = r.begin(); p < r.end(); ++p) in[p] = S[p] >= tau;
+                      });
+    bands[j] = near_outline(inside, ids.width, ids.height, pixel_loss.outline_band);
+  });
+  return bands;
+}
+
+}  // namespace
 
 double object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
                    const IdMap& ids, float weight, std::vector<float>* grad,
@@ -219,37 +267,35 @@ double object_loss(std::span<const float> maps, const std::vector<int32_t>& labe
   const size_t pixels = ids.ids.size(), m = labels.size();
   if (maps.size() != m * pixels) throw std::invalid_argument("object_loss: map sizes differ");
   if (grad) grad->resize(maps.size());  // every value is written
-  if (m == 0) return 0;
+  if (m == 0 || pixels == 0) return 0;
   const double scale = 1.0 / (double(m) * double(pixels));
-  // The planes in parallel, and each plane's gradient in chunks; each
-  // plane's sum stays one loop, so the loss is the same double whatever the
-  // threads.
   const bool generalized = pixel_loss.kind == PixelLoss::Kind::kGeneralized;
-  const bool banded = generalized && pixel_loss.outline_band > 0;
   const double q = pixel_loss.q;
-  std::vector<double> sums(m);
-  tbb::parallel_for(size_t(0), m, [&](size_t j) {
-    const float* S = &maps[j * pixels];
-    std::vector<uint8_t> near_model_outline;
-    if (banded) {
-      std::vector<uint8_t> inside(pixels);
-      for (size_t p = 0; p < pixels; ++p) inside[p] = S[p] >= pixel_loss.mask_threshold;
-      near_model_outline = near_outline(inside, ids.width, ids.height, pixel_loss.outline_band);
-    }
-    const uint8_t* band = banded ? near_model_outline.data() : nullptr;
-    if (grad)
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const auto& r) {
-        const size_t at = r.begin();
+  const std::vector<std::vector<uint8_t>> bands = outline_bands(maps, m, ids, pixel_loss);
+  // Every chunk of every plane in parallel: with one sampled object (a
+  // scene of one object, or M = 1) the planes alone would leave all threads
+  // but one idle.
+  const size_t chunks = (pixels + kLossChunk - 1) / kLossChunk;
+  std::vector<double> sums(m * chunks);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, m * chunks, 1), [&](const auto& range) {
+    for (size_t task = range.begin(); task < range.end(); ++task) {
+      const size_t j = task / chunks, at = (task % chunks) * kLossChunk;
+      const size_t n = std::min(kLossChunk, pixels - at);
+      const float* S = &maps[j * pixels + at];
+      const uint16_t* chunk_ids = &ids.ids[at];
+      const uint8_t* band = bands[j].empty() ? nullptr : bands[j].data() + at;
+      if (grad) {
         float* g = &(*grad)[j * pixels + at];
         if (generalized)
-          generalized_loss_gradient(S + at, &ids.ids[at], labels[j], r.size(), weight * scale, q,
-                                    band ? band + at : nullptr, pixel_loss.outline_q, g);
+          generalized_loss_gradient(S, chunk_ids, labels[j], n, weight * scale, q, band,
+                                    pixel_loss.outline_q, g);
         else
-          object_loss_gradient(S + at, &ids.ids[at], labels[j], r.size(), weight * scale, g);
-      });
-    sums[j] = generalized ? generalized_loss_sum(S, ids.ids.data(), labels[j], pixels, q, band,
-                                                 pixel_loss.outline_q)
-                          : object_loss_sum(S, ids.ids.data(), labels[j], pixels);
+          object_loss_gradient(S, chunk_ids, labels[j], n, weight * scale, g);
+      }
+      sums[task] = generalized ? generalized_loss_sum(S, chunk_ids, labels[j], n, q, band,
+                                                      pixel_loss.outline_q)
+                               : object_loss_sum(S, chunk_ids, labels[j], n);
+    }
   });
   double loss = 0;
   for (double sum : sums) loss += sum;

@@ -4,6 +4,8 @@
 #include "splat/train/object_loss.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -48,7 +50,8 @@ TEST(ObjectLoss, GradientMatchesFiniteDifferences) {
 
 // The loss and its gradient as the papers write them, one pixel at a time:
 // the binary cross-entropy, against which object_loss (which skips the
-// logarithms of clamped values) must agree to the last bit, or the
+// logarithms of clamped values) must agree to the last bit of the gradient
+// (the loss up to its sum's order), or the
 // generalized cross-entropy (1 - p^q) / q with p = S where B, else 1 - S,
 // and with an outline band the cross-entropy at the pixels whose square
 // window of that radius holds both values of the model's mask S >= tau
@@ -114,13 +117,34 @@ struct LossCase {
   }
 };
 
-TEST(ObjectLoss, EqualsThePerPixelFormulaExactly) {
+// The gradient bit for bit; the loss up to the order of its sum (the fast
+// one adds each plane in chunks of pixels).
+TEST(ObjectLoss, EqualsThePerPixelFormula) {
   const LossCase c(7);
   const auto& [ids, labels, maps] = c;
   std::vector<float> grad, expected_grad;
   const double loss = object_loss(maps, labels, ids, 0.1f, &grad);
-  EXPECT_EQ(loss, reference_object_loss(maps, labels, ids, 0.1f, expected_grad));
+  const double expected = reference_object_loss(maps, labels, ids, 0.1f, expected_grad);
+  EXPECT_NEAR(loss, expected, 1e-12 * expected);
   EXPECT_EQ(grad, expected_grad);
+}
+
+// The chunks are fixed, so one thread and all of them give the same double.
+TEST(ObjectLoss, TheLossIsTheSameDoubleWhateverTheThreads) {
+  const LossCase c(5);
+  const auto& [ids, labels, maps] = c;
+  for (const PixelLoss& pixel_loss :
+       {PixelLoss{}, PixelLoss{PixelLoss::Kind::kGeneralized, 0.7, 3}}) {
+    std::vector<float> grad_one, grad_all;
+    double one = 0;
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+      one = object_loss(maps, labels, ids, 0.1f, &grad_one, pixel_loss);
+    }
+    const double all = object_loss(maps, labels, ids, 0.1f, &grad_all, pixel_loss);
+    EXPECT_EQ(one, all);
+    EXPECT_EQ(grad_one, grad_all);
+  }
 }
 
 // near_outline of the model's mask S >= 0.5 of one plane.
@@ -183,6 +207,25 @@ TEST(ObjectLoss, NearOutlineIsTheBandOnBothSidesOfTheOutline) {
   EXPECT_FALSE(near[size_t(5 * w + 5)]);  // its middle
   EXPECT_FALSE(near[size_t(0)]);          // far outside
   EXPECT_THROW(near_outline(inside, w, h - 1, 1), std::invalid_argument);
+}
+
+// In stripes of rows on several threads, the band is the whole image's:
+// random pixels over more rows than four stripes hold, in an arena of four
+// threads whatever the machine's cores.
+TEST(ObjectLoss, NearOutlineInStripesIsTheWholeImages) {
+  const int w = 37, h = 611;
+  std::mt19937 rng(3);
+  std::vector<uint8_t> inside(size_t(w * h));
+  std::vector<float> S(inside.size());
+  for (size_t p = 0; p < inside.size(); ++p) S[p] = inside[p] = rng() % 7 == 0;
+  for (int radius : {1, 3}) {
+    std::vector<uint8_t> near;
+    tbb::task_arena(4).execute([&] { near = near_outline(inside, w, h, radius); });
+    ASSERT_EQ(near.size(), inside.size());
+    for (size_t p = 0; p < near.size(); ++p)
+      ASSERT_EQ(bool(near[p]), near_outline_by_search(S.data(), w, h, 0.5f, p, radius))
+          << radius << " " << p;
+  }
 }
 
 // The band follows the model's mask (S >= tau), not the view's: here the
