@@ -9,6 +9,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -63,10 +64,10 @@ void BM_ImageLossReference(benchmark::State& state) {
   }
 }
 
-// An object as stage two sees it: a disc of radius r in the ID map (label
-// `id`), and an occupancy that rises from 0 to 1 over 4 pixels across the
-// disc's outline, shifted by `offset` pixels, so most pixels are clamped
-// zeros as in training.
+// An object as stage two sees it: a disc a quarter of the image's height in
+// radius in the ID map (label `id`), and an occupancy that rises from 0 to
+// 1 over 4 pixels across the disc's outline, shifted by `offset` pixels, so
+// most pixels are clamped zeros as in training.
 struct ObjectPlane {
   IdMap ids;
   std::vector<float> occupancy;
@@ -82,8 +83,8 @@ struct ObjectPlane {
   }
 };
 
-// The default recipe's object loss (robust-outline) over M maps of one
-// view; range(2) threads.
+// The default recipe's object loss (robust-outline) over M = range(2) maps
+// of one view, on range(3) threads.
 void BM_ObjectLoss(benchmark::State& state) {
   const int w = int(state.range(0)), h = int(state.range(1)), m = int(state.range(2));
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(state.range(3)));
