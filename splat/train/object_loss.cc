@@ -192,6 +192,34 @@ double generalized_loss_sum(const float* S, const uint16_t* ids, int32_t label, 
   return sum;
 }
 
+// The pixels of one task of the object loss: the gradient and the sum are
+// computed in chunks of this many pixels of a plane, and the chunks' sums
+// added in order, so the loss is the same double whatever the threads.
+constexpr size_t kLossChunk = size_t(1) << 16;
+
+// Per plane, 1 within pixel_loss.outline_band pixels of the outline of the
+// model's mask of the object (S >= tau); empty where the loss has no band.
+std::vector<std::vector<uint8_t>> outline_bands(std::span<const float> maps, size_t m,
+                                                const IdMap& ids, const PixelLoss& pixel_loss) {
+  std::vector<std::vector<uint8_t>> bands(m);
+  if (pixel_loss.kind != PixelLoss::Kind::kGeneralized || pixel_loss.outline_band <= 0)
+    return bands;
+  const size_t pixels = ids.ids.size();
+  tbb::parallel_for(size_t(0), m, [&](size_t j) {
+    const float* S = &maps[j * pixels];
+    std::vector<uint8_t> inside(pixels);
+    // Locals, not references: a byte store may alias what a reference reaches.
+    uint8_t* in = inside.data();
+    const float tau = pixel_loss.mask_threshold;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, kLossChunk),
+                      [S, in, tau](const auto& r) {
+                        for (size_t p = r.begin(); p < r.end(); ++p) in[p] = S[p] >= tau;
+                      });
+    bands[j] = near_outline(inside, ids.width, ids.height, pixel_loss.outline_band);
+  });
+  return bands;
+}
+
 }  // namespace
 
 std::vector<uint8_t> near_outline(std::span<const uint8_t> inside, int width, int height,
@@ -228,38 +256,6 @@ std::vector<uint8_t> near_outline(std::span<const uint8_t> inside, int width, in
   });
   return near;
 }
-
-namespace {
-
-// The pixels of one task of the object loss: the gradient and the sum are
-// computed in chunks of this many pixels of a plane, and the chunks' sums
-// added in order, so the loss is the same double whatever the threads.
-constexpr size_t kLossChunk = size_t(1) << 16;
-
-// Per plane, 1 within pixel_loss.outline_band pixels of the outline of the
-// model's mask of the object (S >= tau); empty where the loss has no band.
-std::vector<std::vector<uint8_t>> outline_bands(std::span<const float> maps, size_t m,
-                                                const IdMap& ids, const PixelLoss& pixel_loss) {
-  std::vector<std::vector<uint8_t>> bands(m);
-  if (pixel_loss.kind != PixelLoss::Kind::kGeneralized || pixel_loss.outline_band <= 0)
-    return bands;
-  const size_t pixels = ids.ids.size();
-  tbb::parallel_for(size_t(0), m, [&](size_t j) {
-    const float* S = &maps[j * pixels];
-    std::vector<uint8_t> inside(pixels);
-    // Locals, not references: a byte store may alias what a reference reaches.
-    uint8_t* in = inside.data();
-    const float tau = pixel_loss.mask_threshold;
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, kLossChunk),
-                      [S, in, tau](const auto& r) {
-                        for (size_t p = r.begin(); p < r.end(); ++p) in[p] = S[p] >= tau;
-                      });
-    bands[j] = near_outline(inside, ids.width, ids.height, pixel_loss.outline_band);
-  });
-  return bands;
-}
-
-}  // namespace
 
 double object_loss(std::span<const float> maps, const std::vector<int32_t>& labels,
                    const IdMap& ids, float weight, std::vector<float>* grad,
