@@ -2,6 +2,10 @@
 // The exponent of a projected Gaussian at a pixel, shared by the forward and
 // backward rasterizers so that both take the same side of every threshold.
 
+#if defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+#endif
+
 namespace splat {
 
 // a * b + c, fused where the CPU has a fused multiply-add instruction.
@@ -24,5 +28,15 @@ inline float gaussian_power(float A, float B, float C, float dx, float dy) {
   const float quadratic = multiply_add(A * dx, dx, C * dy * dy);
   return multiply_add(-0.5f, quadratic, -(B * dx * dy));
 }
+
+#if defined(__AVX2__) && defined(__FMA__)
+// gaussian_power of 8 lanes: the same products, fused alike.
+inline __m256 gaussian_power8(float A, float B, float C, __m256 dx, __m256 dy) {
+  const __m256 C_dy_dy = _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(C), dy), dy);
+  const __m256 quadratic = _mm256_fmadd_ps(_mm256_mul_ps(_mm256_set1_ps(A), dx), dx, C_dy_dy);
+  const __m256 B_dx_dy = _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(B), dx), dy);
+  return _mm256_fmsub_ps(_mm256_set1_ps(-0.5f), quadratic, B_dx_dy);
+}
+#endif
 
 }  // namespace splat

@@ -121,8 +121,74 @@ inline void blend(const TileGaussians& tg, size_t k, float px0, float py0, Block
   }
 }
 
+#if defined(__AVX2__) && defined(__FMA__) && !defined(__AVX512F__)
+// blend_block without the instance and label branches, one 8-lane half of
+// the block at a time with its state in registers: the loop over lanes keeps
+// the state in memory and stores it back after every entry, twice the
+// vectors on AVX2. The same operations as blend's, so the same bits.
+template <bool kColor, bool kDepth>
+void blend_block_in_halves(const TileGaussians& tg, int b, const PixelBlock& block, BlockState& s) {
+  const uint32_t* entries = tg.block_list(b);
+  const uint32_t count = tg.block_count[b];
+  const float x0 = block.cx0(), y0 = block.cy0();
+  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.f);
+  for (int h = 0; h < kLanes; h += 8) {
+    const __m256 offset_x = _mm256_load_ps(kLaneOffsets.x + h);
+    const __m256 offset_y = _mm256_load_ps(kLaneOffsets.y + h);
+    __m256 T = _mm256_load_ps(s.T + h);
+    __m256 done = _mm256_cmp_ps(_mm256_load_ps(s.done + h), zero, _CMP_NEQ_UQ);
+    __m256 red = _mm256_load_ps(s.color[0] + h), green = _mm256_load_ps(s.color[1] + h);
+    __m256 blue = _mm256_load_ps(s.color[2] + h), depth = _mm256_load_ps(s.depth + h);
+    __m256i last = _mm256_load_si256(reinterpret_cast<const __m256i*>(s.last + h));
+    __m256i blended = _mm256_load_si256(reinterpret_cast<const __m256i*>(s.blended + h));
+    for (uint32_t e = 0; e < count; ++e) {
+      const size_t k = entries[e];
+      const SplatRecord& g = tg[k];
+      const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(g.mx - x0), offset_x);
+      const __m256 dy = _mm256_sub_ps(_mm256_set1_ps(g.my - y0), offset_y);
+      const __m256 power = gaussian_power8(g.A, g.B, g.C, dx, dy);
+      const __m256 G = fast_exp8(_mm256_min_ps(power, zero));
+      const __m256 alpha =
+          _mm256_min_ps(_mm256_mul_ps(_mm256_set1_ps(g.opacity), G), _mm256_set1_ps(kMaxAlpha));
+      const __m256 valid = _mm256_andnot_ps(
+          done, _mm256_and_ps(_mm256_cmp_ps(power, zero, _CMP_LE_OQ),
+                              _mm256_cmp_ps(alpha, _mm256_set1_ps(kMinAlpha), _CMP_GE_OQ)));
+      const __m256 next_T = _mm256_mul_ps(T, _mm256_sub_ps(one, alpha));
+      const __m256 terminate = _mm256_and_ps(
+          valid, _mm256_cmp_ps(next_T, _mm256_set1_ps(kMinTransmittance), _CMP_LT_OQ));
+      const __m256 contribute = _mm256_andnot_ps(terminate, valid);
+      const __m256 w = _mm256_and_ps(contribute, _mm256_mul_ps(alpha, T));
+      if constexpr (kColor) {
+        red = _mm256_fmadd_ps(w, _mm256_set1_ps(g.r), red);
+        green = _mm256_fmadd_ps(w, _mm256_set1_ps(g.g), green);
+        blue = _mm256_fmadd_ps(w, _mm256_set1_ps(g.b), blue);
+      }
+      if constexpr (kDepth) depth = _mm256_fmadd_ps(w, _mm256_set1_ps(g.depth), depth);
+      const __m256i contributes = _mm256_castps_si256(contribute);
+      last = _mm256_blendv_epi8(last, _mm256_set1_epi32(int32_t(k) + 1), contributes);
+      blended = _mm256_sub_epi32(blended, contributes);
+      T = _mm256_blendv_ps(T, next_T, contribute);
+      done = _mm256_or_ps(done, terminate);
+      if ((e & 15) == 15 && _mm256_movemask_ps(done) == 0xff) break;
+    }
+    _mm256_store_ps(s.T + h, T);
+    _mm256_store_ps(s.done + h, _mm256_and_ps(done, one));
+    _mm256_store_ps(s.color[0] + h, red);
+    _mm256_store_ps(s.color[1] + h, green);
+    _mm256_store_ps(s.color[2] + h, blue);
+    _mm256_store_ps(s.depth + h, depth);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(s.last + h), last);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(s.blended + h), blended);
+  }
+}
+#endif
+
 template <bool kColor, bool kDepth, bool kInstance, bool kLabels>
 void blend_block(const TileGaussians& tg, int b, const PixelBlock& block, BlockState& s) {
+#if defined(__AVX2__) && defined(__FMA__) && !defined(__AVX512F__)
+  if constexpr (!kInstance && !kLabels)
+    return blend_block_in_halves<kColor, kDepth>(tg, b, block, s);
+#endif
   const uint32_t* entries = tg.block_list(b);
   const uint32_t count = tg.block_count[b];
   const float x0 = block.cx0(), y0 = block.cy0();
