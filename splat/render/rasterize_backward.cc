@@ -339,10 +339,10 @@ inline void for_each_block(unsigned blocks, int tile_x0, int tile_y0, Visit&& vi
 }
 
 #if defined(__AVX2__) && defined(__FMA__) && !defined(__AVX512F__)
-// An entry's colour-loss sums over one 8-lane half of the blocks it reaches,
-// in registers (acc's rows kSumX .. kOpacity).
+// An entry's sums over one 8-lane half of the blocks it reaches, in
+// registers (acc's rows but depth).
 struct HalfSums {
-  __m256 x, y, xx, xy, yy, red, green, blue, opacity;
+  __m256 x, y, xx, xy, yy, red, green, blue, opacity, instance_opacity;
 };
 
 // sum + value, or value for the first block (kFirst).
@@ -358,12 +358,13 @@ inline __m256 add_product(__m256 sum, __m256 a, __m256 b) {
   return _mm256_fmadd_ps(a, b, sum);
 }
 
-// back_block<kColor, no instance, no alpha or depth terms> on lanes h .. h + 7
+// back_block<kColor, kInstance, no alpha or depth terms> on lanes h .. h + 7
 // of one block, with the sums in registers: the same operations, fused
 // alike, as GCC compiles the lane loop, so the same bits.
-template <bool kFirst>
+template <bool kInstance, bool kFirst>
 inline void back_half(const SplatRecord& gs, int32_t position, float px0, float py0, int block,
-                      int h, TileBackState& s, HalfSums& sum) {
+                      int h, const float* g_plane, float op_star_geometry, TileBackState& s,
+                      HalfSums& sum) {
   const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.f);
   const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(gs.mx - px0), _mm256_load_ps(kLaneOffsets.x + h));
   const __m256 dy = _mm256_sub_ps(_mm256_set1_ps(gs.my - py0), _mm256_load_ps(kLaneOffsets.y + h));
@@ -401,7 +402,18 @@ inline void back_half(const SplatRecord& gs, int32_t position, float px0, float 
   const __m256 unclamped = _mm256_cmp_ps(raw_alpha, _mm256_set1_ps(kMaxAlpha), _CMP_LT_OQ);
   g_alpha = _mm256_mul_ps(g_alpha, _mm256_and_ps(m_valid, unclamped));
   sum.opacity = add_product<kFirst>(sum.opacity, g_alpha, G);
-  const __m256 g_power = _mm256_mul_ps(_mm256_mul_ps(g_alpha, op), G);
+  __m256 g_G = _mm256_mul_ps(g_alpha, op);
+  if constexpr (kInstance) {
+    const __m256 unclamped_star =
+        _mm256_cmp_ps(_mm256_mul_ps(_mm256_set1_ps(gs.instance_opacity), G),
+                      _mm256_set1_ps(kMaxAlpha), _CMP_LT_OQ);
+    const __m256 g_star = _mm256_mul_ps(
+        _mm256_mul_ps(_mm256_and_ps(m_valid, unclamped_star), _mm256_loadu_ps(g_plane + h)), T_i);
+    sum.instance_opacity = add_product<kFirst>(sum.instance_opacity, g_star, G);
+    // g_alpha op + g_star sigma*: GCC fuses the first product.
+    g_G = _mm256_fmadd_ps(g_alpha, op, _mm256_mul_ps(g_star, _mm256_set1_ps(op_star_geometry)));
+  }
+  const __m256 g_power = _mm256_mul_ps(g_G, G);
   const __m256 g_dx = _mm256_mul_ps(g_power, dx), g_dy = _mm256_mul_ps(g_power, dy);
   sum.x = add_sum<kFirst>(sum.x, g_dx);
   sum.y = add_sum<kFirst>(sum.y, g_dy);
@@ -411,27 +423,33 @@ inline void back_half(const SplatRecord& gs, int32_t position, float px0, float 
   _mm256_store_ps(T, T_i);
 }
 
-// back_blocks for the colour loss alone (training's), one 8-lane half of
+// back_blocks without alpha or depth terms (training's), one 8-lane half of
 // every block at a time so that the entry's sums stay in registers: the
 // lane loop loads and stores all eleven rows for every block, twice the
 // vectors on AVX2. Blocks in the same order, so the same sums.
+template <bool kInstance>
 inline void back_blocks_in_halves(const TileGaussians& tg, size_t k, unsigned reached, int tile_x0,
-                                  int tile_y0, TileBackState& s,
-                                  float (&acc)[kEntryGrads][kLanes]) {
+                                  int tile_y0, const float* g_planes, float instance_geometry,
+                                  TileBackState& s, float (&acc)[kEntryGrads][kLanes]) {
   const SplatRecord& gs = tg[k];
   const int first = __builtin_ctz(reached);
   const PixelBlock first_block = PixelBlock::in_tile(tile_x0, tile_y0, first);
+  const float op_star_geometry = instance_geometry * gs.instance_opacity;  // as back_block's
+  auto plane = [&](int b) { return kInstance ? g_planes + b * kLanes : nullptr; };
   for (int h = 0; h < kLanes; h += 8) {
     HalfSums sum;
-    back_half<true>(gs, int32_t(k), first_block.cx0(), first_block.cy0(), first, h, s, sum);
+    back_half<kInstance, true>(gs, int32_t(k), first_block.cx0(), first_block.cy0(), first, h,
+                               plane(first), op_star_geometry, s, sum);
     for_each_block(reached & (reached - 1), tile_x0, tile_y0, [&](int b, const PixelBlock& block) {
-      back_half<false>(gs, int32_t(k), block.cx0(), block.cy0(), b, h, s, sum);
+      back_half<kInstance, false>(gs, int32_t(k), block.cx0(), block.cy0(), b, h, plane(b),
+                                  op_star_geometry, s, sum);
     });
     const auto store = [&](int row, __m256 value) { _mm256_store_ps(acc[row] + h, value); };
     store(kSumX, sum.x), store(kSumY, sum.y), store(kSumXX, sum.xx), store(kSumXY, sum.xy);
     store(kSumYY, sum.yy), store(kRed, sum.red), store(kGreen, sum.green), store(kBlue, sum.blue);
     store(kOpacity, sum.opacity);
-    store(kDepth, _mm256_setzero_ps()), store(kInstanceOpacity, _mm256_setzero_ps());
+    store(kDepth, _mm256_setzero_ps());
+    store(kInstanceOpacity, kInstance ? sum.instance_opacity : _mm256_setzero_ps());
   }
 }
 #endif
@@ -443,8 +461,9 @@ inline void back_blocks(const TileGaussians& tg, size_t k, unsigned reached, int
                         int tile_y0, const float* g_planes, float instance_geometry,
                         TileBackState& s, float (&acc)[kEntryGrads][kLanes]) {
 #if defined(__AVX2__) && defined(__FMA__) && !defined(__AVX512F__)
-  if constexpr (kColor && !kInstance && !kAlphaDepth)
-    return back_blocks_in_halves(tg, k, reached, tile_x0, tile_y0, s, acc);
+  if constexpr (kColor && !kAlphaDepth)
+    return back_blocks_in_halves<kInstance>(tg, k, reached, tile_x0, tile_y0, g_planes,
+                                            instance_geometry, s, acc);
 #endif
   auto plane = [&](int b) { return kInstance ? g_planes + b * kLanes : nullptr; };
   const int first = __builtin_ctz(reached);

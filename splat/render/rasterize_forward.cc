@@ -122,11 +122,12 @@ inline void blend(const TileGaussians& tg, size_t k, float px0, float py0, Block
 }
 
 #if defined(__AVX2__) && defined(__FMA__) && !defined(__AVX512F__)
-// blend_block without the instance and label branches, one 8-lane half of
-// the block at a time with its state in registers: the loop over lanes keeps
-// the state in memory and stores it back after every entry, twice the
-// vectors on AVX2. The same operations as blend's, so the same bits.
-template <bool kColor, bool kDepth>
+// blend_block without the label branch, one 8-lane half of the block at a
+// time with its state in registers: the loop over lanes keeps the state in
+// memory and stores it back after every entry, twice the vectors on AVX2.
+// The same operations as blend's, fused alike, so the same bits. The
+// occupancy planes stay in memory: an entry adds to its label's plane only.
+template <bool kColor, bool kDepth, bool kInstance>
 void blend_block_in_halves(const TileGaussians& tg, int b, const PixelBlock& block, BlockState& s) {
   const uint32_t* entries = tg.block_list(b);
   const uint32_t count = tg.block_count[b];
@@ -164,6 +165,14 @@ void blend_block_in_halves(const TileGaussians& tg, int b, const PixelBlock& blo
         blue = _mm256_fmadd_ps(w, _mm256_set1_ps(g.b), blue);
       }
       if constexpr (kDepth) depth = _mm256_fmadd_ps(w, _mm256_set1_ps(g.depth), depth);
+      if (kInstance && g.plane >= 0) {
+        s.touch(g.plane);
+        float* plane = &s.planes[size_t(g.plane) * kLanes + h];
+        const __m256 alpha_star = _mm256_min_ps(
+            _mm256_mul_ps(_mm256_set1_ps(g.instance_opacity), G), _mm256_set1_ps(kMaxAlpha));
+        const __m256 share = _mm256_mul_ps(_mm256_and_ps(contribute, one), alpha_star);
+        _mm256_storeu_ps(plane, _mm256_fmadd_ps(share, T, _mm256_loadu_ps(plane)));
+      }
       const __m256i contributes = _mm256_castps_si256(contribute);
       last = _mm256_blendv_epi8(last, _mm256_set1_epi32(int32_t(k) + 1), contributes);
       blended = _mm256_sub_epi32(blended, contributes);
@@ -186,8 +195,7 @@ void blend_block_in_halves(const TileGaussians& tg, int b, const PixelBlock& blo
 template <bool kColor, bool kDepth, bool kInstance, bool kLabels>
 void blend_block(const TileGaussians& tg, int b, const PixelBlock& block, BlockState& s) {
 #if defined(__AVX2__) && defined(__FMA__) && !defined(__AVX512F__)
-  if constexpr (!kInstance && !kLabels)
-    return blend_block_in_halves<kColor, kDepth>(tg, b, block, s);
+  if constexpr (!kLabels) return blend_block_in_halves<kColor, kDepth, kInstance>(tg, b, block, s);
 #endif
   const uint32_t* entries = tg.block_list(b);
   const uint32_t count = tg.block_count[b];

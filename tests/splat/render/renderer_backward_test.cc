@@ -294,30 +294,34 @@ TEST(RendererBackward, ColourAndObjectLossTogetherAreTheSumOfEach) {
   EXPECT_GT(star, 0.0);
 }
 
-// The colour loss's gradient, through the rasterizer's loop over lanes (an
-// object's Gaussians, with its map's terms, here zero) and, on AVX2 without
-// AVX-512, through the loop that keeps one 8-lane half's sums in registers
-// (every Gaussian without a map): the same bits.
-TEST(RendererBackward, ColourGradientIsTheSameThroughEitherLaneLoop) {
+// The gradient of a colour and object loss through the rasterizer's loop over
+// lanes (taken when the loss also has alpha or depth terms, here zero) and,
+// on AVX2 without AVX-512, through the loop that keeps one 8-lane half's sums
+// in registers (training's losses): the same bits.
+TEST(RendererBackward, GradientIsTheSameThroughEitherLaneLoop) {
   const GaussianModel m = random_scene(400, 31);
   const Camera cam = test_camera(70, 45);  // lanes off the image in the last blocks
   const size_t pixels = size_t(cam.width) * cam.height;
-  const std::vector<float> color = random_weights(3 * pixels, 5);
-  auto backward = [&](std::vector<int32_t> labels_with_maps) {
-    RenderSettings s;
-    s.instance_labels = labels_with_maps;
-    RenderOutputGradients g;
-    g.color = color;
-    g.instance_maps.assign(labels_with_maps.size() * pixels, 0.f);
+  RenderSettings s;
+  s.instance_labels = {1, 2};  // labels 0, 3 and 4 have no map
+  RenderOutputGradients g;
+  g.color = random_weights(3 * pixels, 5);
+  g.instance_maps = random_weights(2 * pixels, 6);
+  auto backward = [&](const RenderOutputGradients& grads) {
     const CpuRenderer renderer;
     std::unique_ptr<RenderState> state;
     renderer.render(m, cam, s, &state);
-    return renderer.backward(m, cam, s, *state, g);
+    return renderer.backward(m, cam, s, *state, grads);
   };
-  const GaussianGradients in_halves = backward({}), in_lanes = backward({0, 1, 2, 3, 4});
+  RenderOutputGradients with_zero_terms = g;
+  with_zero_terms.alpha.assign(pixels, 0.f);
+  with_zero_terms.depth.assign(pixels, 0.f);
+  const GaussianGradients in_halves = backward(g), in_lanes = backward(with_zero_terms);
   const auto a = gradient_arrays(in_halves), b = gradient_arrays(in_lanes);
-  for (size_t j = 0; j + 1 < a.size(); ++j)  // all but sigma*'s, which only one of them has
-    EXPECT_EQ(*a[j], *b[j]) << kArrayNames[j];
+  for (size_t j = 0; j < a.size(); ++j) EXPECT_EQ(*a[j], *b[j]) << kArrayNames[j];
+  double star = 0;
+  for (float v : in_halves.instance_opacity_logits) star += std::abs(v);
+  EXPECT_GT(star, 0.0);
 }
 
 TEST(RendererBackward, Mean2dNdcIsPixelGradientTimesHalfImageSize) {

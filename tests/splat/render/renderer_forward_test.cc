@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <span>
+#include <string>
 
 #include "splat/render/renderer.h"
 #include "tests/splat/render/reference_renderer.h"
@@ -165,27 +166,35 @@ TEST(Renderer, InstanceOnlyRenderGivesTheSameMaps) {
   EXPECT_TRUE(no_depth.depth.empty());
 }
 
-// A render with the mask branches blends in the loop over lanes; one without
+// A render with the label maps blends in the loop over lanes; one without
 // them, on AVX2 without AVX-512, one 8-lane half at a time with its state in
-// registers. Both must give the same bits, whichever loop a build runs.
-TEST(Renderer, ColourIsTheSameWithOrWithoutTheMaskBranches) {
+// registers (with or without the occupancy maps). Both must give the same
+// bits, whichever loop a build runs.
+TEST(Renderer, RenderIsTheSameWithOrWithoutTheLabelMaps) {
   for (unsigned seed : {3u, 12u}) {
     const GaussianModel m = random_scene(400, seed);
     const Camera cam = test_camera(70, 45);  // lanes off the image in the last blocks
-    RenderSettings with_masks = full_settings();
-    const RenderOutput reference = CpuRenderer().render(m, cam, with_masks);
-    RenderSettings plain;
-    std::copy_n(with_masks.background, 3, plain.background);
-    for (bool depth : {true, false}) {
-      plain.depth = depth;
-      const RenderOutput r = CpuRenderer().render(m, cam, plain);
-      EXPECT_EQ(r.color, reference.color) << "seed " << seed << ", depth " << depth;
-      EXPECT_EQ(r.alpha, reference.alpha) << "seed " << seed;
-      EXPECT_EQ(r.contributors, reference.contributors) << "seed " << seed;
-      if (depth) {
-        EXPECT_EQ(r.depth, reference.depth) << "seed " << seed;
+    const RenderSettings with_labels = full_settings();
+    const RenderOutput reference = CpuRenderer().render(m, cam, with_labels);
+    for (bool maps : {true, false})
+      for (bool depth : {true, false}) {
+        RenderSettings s;
+        std::copy_n(with_labels.background, 3, s.background);
+        if (maps) s.instance_labels = with_labels.instance_labels;
+        s.depth = depth;
+        const RenderOutput r = CpuRenderer().render(m, cam, s);
+        const std::string where = "seed " + std::to_string(seed) + ", maps " +
+                                  std::to_string(maps) + ", depth " + std::to_string(depth);
+        EXPECT_EQ(r.color, reference.color) << where;
+        EXPECT_EQ(r.alpha, reference.alpha) << where;
+        EXPECT_EQ(r.contributors, reference.contributors) << where;
+        if (depth) {
+          EXPECT_EQ(r.depth, reference.depth) << where;
+        }
+        if (maps) {
+          EXPECT_EQ(r.instance_maps, reference.instance_maps) << where;
+        }
       }
-    }
   }
 }
 
