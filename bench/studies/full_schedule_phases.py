@@ -19,8 +19,9 @@ PHASES = [
     ("binning (tile lists, depth sort)", r"bin_gaussians|radix_sort|depth_key|tile_bins"),
     ("rasterize forward", r"rasterize_forward|gather_with_blocks|TileGaussians|blend_block|"
                           r"pack_records"),
-    ("rasterize backward", r"rasterize_backward|backward_tile|backward_band|sum_band_entries|"
-                           r"number_band_entries|find_band_members"),
+    ("rasterize backward", r"rasterize_backward|backward_tile|back_blocks|back_half|"
+                           r"backward_band|sum_band_entries|number_band_entries|"
+                           r"find_band_members"),
     ("loss (L1 + SSIM)", r"image_loss|ssim|blur|gaussian_window|psnr|rgb_channel|weighted_rows|"
                          r"split_channels|difference_sums"),
     ("Adam", r"GaussianAdam|adam_update"),
