@@ -1,7 +1,8 @@
 // The rasterizer's backward pass: one tile's pixels walked back to front,
 // each Gaussian's gradient summed over its pixels as moments, with a portable
 // form of its lane sums and AVX-512 and AVX2 forms that add the lanes in one
-// order. One step kept in one file, as gsplat
+// order, and on AVX2 without AVX-512 the training losses' loop with its sums
+// in registers (the same bits). One step kept in one file, as gsplat
 // keeps its rasterize backward: its parts share the per-tile state and are
 // only correct together. The slow reference it is tested against is kept
 // apart, in tests/splat/render/reference_renderer.cc.
@@ -387,7 +388,8 @@ inline void back_half(const SplatRecord& gs, int32_t position, float px0, float 
   const __m256 g_red = _mm256_load_ps(s.g_color[0][block] + h);
   const __m256 g_green = _mm256_load_ps(s.g_color[1][block] + h);
   const __m256 g_blue = _mm256_load_ps(s.g_color[2][block] + h);
-  // g_c = g_red r + g_green g + g_blue b, fused from the middle term out.
+  // g_c = (g_red r + g_green g) + g_blue b, fused as GCC contracts it: the
+  // first product into the first sum, the last into the second.
   __m256 g_c = _mm256_mul_ps(g_green, _mm256_set1_ps(gs.g));
   g_c = _mm256_fmadd_ps(g_red, _mm256_set1_ps(gs.r), g_c);
   g_c = _mm256_fmadd_ps(g_blue, _mm256_set1_ps(gs.b), g_c);
@@ -437,7 +439,7 @@ inline void back_blocks_in_halves(const TileGaussians& tg, size_t k, unsigned re
   const float op_star_geometry = instance_geometry * gs.instance_opacity;  // as back_block's
   auto plane = [&](int b) { return kInstance ? g_planes + b * kLanes : nullptr; };
   for (int h = 0; h < kLanes; h += 8) {
-    HalfSums sum;
+    HalfSums sum{};  // the first block sets every row
     back_half<kInstance, true>(gs, int32_t(k), first_block.cx0(), first_block.cy0(), first, h,
                                plane(first), op_star_geometry, s, sum);
     for_each_block(reached & (reached - 1), tile_x0, tile_y0, [&](int b, const PixelBlock& block) {
