@@ -180,8 +180,8 @@ void blend_block_in_halves(const TileGaussians& tg, int b, const PixelBlock& blo
       done = _mm256_or_ps(done, terminate);
       if ((e & 15) == 15 && _mm256_movemask_ps(done) == 0xff) break;
     }
+    // What store_block reads; `done` is not read after the block.
     _mm256_store_ps(s.T + h, T);
-    _mm256_store_ps(s.done + h, _mm256_and_ps(done, one));
     _mm256_store_ps(s.color[0] + h, red);
     _mm256_store_ps(s.color[1] + h, green);
     _mm256_store_ps(s.color[2] + h, blue);
