@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
-# Thread scaling of training, 1 against 2 threads, paired, in each phase of
-# the schedule (docs/benchmarks.md, "Thread scaling").
+# Thread scaling of training, 1 against 2 threads, paired step by step, in
+# each phase of the schedule (docs/benchmarks.md, "Thread scaling").
 #
 #   bench/thread_scaling.sh <op2gs build dir> <scene folder> <out dir>
 #
-# Phases, each run ROUNDS times with --threads 1, 2, 2, 1 in turn so that the
-# machine's drift hits both counts alike:
+# Each run trains with --alternate-threads 1 2 2 1: its iterations take 1,
+# 2, 2, 1, 1, 2, ... threads in turn, so that a machine whose speed drifts
+# within minutes (the VMs of docs/benchmarks.md, by a fifth) slows both
+# counts alike, and training is the same model bit for bit as with either
+# count. Phases, each run ROUNDS times:
 #   early      stage one from the scene's SfM points (a few thousand large
 #              Gaussians), STEPS iterations, before densification starts;
 #   late       stage one resumed from MODEL's checkpoint (LATE_AT), STEPS
@@ -13,13 +16,14 @@
 #   stage-two  op2gs-learn from the same checkpoint with the labels of
 #              LABELS (an op2gs-vote point cloud), STEPS iterations; run
 #              only when LABELS is set.
-# Each run's time per iteration is the median step of its train_log.jsonl
-# after the first (bench/timing.sh); the views are decoded before the first
-# iteration, so no step waits on a photo.
+# Each count's time per iteration is the median of its steps in the run's
+# train_log.jsonl, the first step left out (bench/timing.sh), and the
+# speed-up the ratio of the two medians; the views are decoded before the
+# first iteration, so no step waits on a photo.
 #
 # Environment: DOWNSCALE (1), TRAIN_OPTS (scene options, e.g. "--split
 # lerf"), LEARN_OPTS (op2gs-learn's, e.g. "--id-maps object_mask"), STEPS
-# (100), ROUNDS (2), SCHEDULE (7500), LATE_AT (5000), MODEL (an op2gs
+# (200, of which half on each count), ROUNDS (1), SCHEDULE (7500), LATE_AT (5000), MODEL (an op2gs
 # stage-one work folder with checkpoints/latest.ckpt at LATE_AT; without it
 # only the early phase runs), LABELS, PHASES (which of the phases to run;
 # default all that MODEL and LABELS allow).
@@ -34,8 +38,8 @@ out="$3"
 downscale="${DOWNSCALE:-1}"
 read -r -a train_opts <<< "${TRAIN_OPTS:-}"
 read -r -a learn_opts <<< "${LEARN_OPTS:-}"
-steps="${STEPS:-100}"
-rounds="${ROUNDS:-2}"
+steps="${STEPS:-200}"
+rounds="${ROUNDS:-1}"
 schedule="${SCHEDULE:-7500}"
 late_at="${LATE_AT:-5000}"
 model="${MODEL:-}"
@@ -59,29 +63,36 @@ common=("$scene" --resolution "$downscale" "${train_opts[@]}" --schedule "$sched
   --no-final-test --checkpoint-every "$never")
 end=$((late_at + steps))
 
-# Runs PHASE with THREADS threads in a fresh folder; prints its median step.
-run_phase() {  # PHASE THREADS LABEL
-  local phase="$1" threads="$2" label="$3" work="$out/run"
+# Runs PHASE with the thread counts alternating, in a fresh folder; prints
+# its steps, one "THREADS SECONDS" a line.
+run_phase() {  # PHASE LABEL
+  local phase="$1" label="$2" work="$out/run"
+  local alternate=(--alternate-threads 1 2 2 1)
   rm -rf "$work"
   case "$phase" in
     early)
-      step "$label" "$bin/op2gs-train" "${common[@]}" "$work" --threads "$threads" \
+      step "$label" "$bin/op2gs-train" "${common[@]}" "$work" "${alternate[@]}" \
         --iterations "$steps" --densify-until 1
-      op2gs_seconds "$work/train_log.jsonl" 1 "$steps"
+      op2gs_steps_by_threads "$work/train_log.jsonl" 1 "$steps"
       ;;
     late)
       resume_in_fresh_folder "$label" "$model/checkpoints/latest.ckpt" "$work" \
-        "$bin/op2gs-train" "${common[@]}" --threads "$threads" --iterations "$end" \
+        "$bin/op2gs-train" "${common[@]}" "${alternate[@]}" --iterations "$end" \
         --densify-until "$late_at"
-      op2gs_seconds "$work/train_log.jsonl" $((late_at + 1)) "$end"
+      op2gs_steps_by_threads "$work/train_log.jsonl" $((late_at + 1)) "$end"
       ;;
     stage-two)
       step "$label" "$bin/op2gs-learn" "${common[@]}" "$work" "${learn_opts[@]}" \
-        --threads "$threads" --checkpoint "$model/checkpoints/latest.ckpt" --labels "$labels" \
+        "${alternate[@]}" --checkpoint "$model/checkpoints/latest.ckpt" --labels "$labels" \
         --iterations "$end"
-      op2gs_seconds "$work/learn/train_log.jsonl" $((late_at + 1)) "$end"
+      op2gs_steps_by_threads "$work/learn/train_log.jsonl" $((late_at + 1)) "$end"
       ;;
   esac
+}
+
+# The median step of one thread count in a file of "THREADS SECONDS" lines.
+median_of() {  # FILE THREADS
+  awk -v t="$2" '$1 == t { print $2 }' "$1" | median
 }
 
 phases=(early)
@@ -98,26 +109,20 @@ results="$out/results.jsonl"
 : > "$results"
 for round in $(seq "$rounds"); do
   for phase in "${phases[@]}"; do
-    run=0
-    for threads in 1 2 2 1; do
-      run=$((run + 1))
-      label="${phase}_round${round}_run${run}_${threads}t"
-      seconds="$(run_phase "$phase" "$threads" "$label")"
-      echo "round $round, $phase, $threads thread(s): $seconds s/it"
-      printf '{"phase":"%s","threads":%d,"round":%d,"s_per_iteration":%s}\n' \
-        "$phase" "$threads" "$round" "$seconds" >> "$results"
-    done
+    steps_file="$out/steps_${phase}_round${round}.txt"
+    run_phase "$phase" "${phase}_round${round}" > "$steps_file"
+    one=$(median_of "$steps_file" 1) two=$(median_of "$steps_file" 2)
+    echo "round $round, $phase: 1 thread $one s/it, 2 threads $two s/it"
+    printf '{"phase":"%s","round":%d,"s_per_iteration_1":%s,"s_per_iteration_2":%s}\n' \
+      "$phase" "$round" "$one" "$two" >> "$results"
   done
 done
 rm -rf "$out/run"
 
 echo
-echo "phase      1 thread s/it  2 threads s/it  speed-up (median of each)"
+echo "phase      1 thread s/it  2 threads s/it  speed-up (medians of all rounds' steps)"
 for phase in "${phases[@]}"; do
-  pick() {
-    sed -nE "/\"phase\":\"$phase\",\"threads\":$1,/ s/.*\"s_per_iteration\":([0-9.e+-]+).*/\1/p" \
-      "$results"
-  }
-  one=$(pick 1 | median) two=$(pick 2 | median)
+  cat "$out"/steps_"${phase}"_round*.txt > "$out/steps_${phase}.txt"
+  one=$(median_of "$out/steps_${phase}.txt" 1) two=$(median_of "$out/steps_${phase}.txt" 2)
   awk -v p="$phase" -v a="$one" -v b="$two" 'BEGIN { printf "%-10s %14s %15s  %.2fx\n", p, a, b, a / b }'
 done

@@ -49,5 +49,18 @@ op2gs_seconds() {  # LOG FIRST LAST
     median
 }
 
+# The steps of an op2gs run made with --alternate-threads, the first step
+# (FIRST) left out: one line "THREADS SECONDS" a step. Fails unless every
+# step is there with its thread count.
+op2gs_steps_by_threads() {  # LOG FIRST LAST
+  local log="$1" first="$2" last="$3"
+  local n
+  n=$(grep -c '"threads"' "$log" || true)
+  [ "$n" -ge $((last - first + 1)) ] || fail "$log: $n iterations logged with their threads, expected $((last - first + 1))"
+  grep '"threads"' "$log" |
+    sed -E 's/.*"elapsed_s":([0-9.e+-]+).*"iteration":([0-9]+).*"threads":([0-9]+).*/\2 \1 \3/' |
+    awk -v first="$first" '$1 > first { print $3, $2 - prev } { prev = $2 }'
+}
+
 # The Gaussians of an op2gs run's last logged step (a test line has none).
 op2gs_gaussians() { grep '"gaussians"' "$1" | tail -1 | sed -E 's/.*"gaussians":([0-9]+).*/\1/'; }

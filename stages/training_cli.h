@@ -57,6 +57,11 @@ class TrainingCli {
         ->capture_default_str();
     app.add_option("--cache-mb", cache_mb_, "decoded images kept in memory, MiB")
         ->capture_default_str();
+    app.add_option(
+        "--alternate-threads", o.alternate_threads,
+        "benchmarking: run the iterations on these thread counts in turn (e.g. 1 2 2 "
+        "1; each at most --threads), so that a machine's drift slows every count "
+        "alike; train_log.jsonl records each iteration's count (bench/thread_scaling.sh)");
   }
 
   // Moves the parsed values into the options and limits the threads (for as

@@ -2,11 +2,13 @@
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "splat/atomic_file.h"
@@ -28,6 +30,8 @@ void TrainRunOptions::Check() const {
   if (checkpoint_every < 1) throw std::invalid_argument("checkpoint_every must be >= 1");
   if (!start_checkpoint.empty() && labels_model.empty())
     throw std::invalid_argument("stage two needs the labelled model of op2gs-vote");
+  for (int n : alternate_threads)
+    if (n < 1) throw std::invalid_argument(fmt::format("alternate thread count {} is not >= 1", n));
 }
 
 namespace {
@@ -93,6 +97,25 @@ int last_opacity_reset(const fs::path& work, int iteration) {
   return last;
 }
 
+// train_until one iteration at a time, each in a task arena of its turn's
+// thread count (TrainRunOptions::alternate_threads), the count passed on in
+// the iteration's statistics.
+void train_alternating_threads(Trainer& t, int until, const std::vector<int>& counts,
+                               const std::function<void(const IterationStats&)>& on_iteration) {
+  std::vector<std::unique_ptr<tbb::task_arena>> arenas;
+  for (int n : counts) arenas.push_back(std::make_unique<tbb::task_arena>(n));
+  for (size_t k = 0; t.iteration() < until; ++k) {
+    const size_t turn = k % counts.size();
+    arenas[turn]->execute([&] {
+      t.train_until(t.iteration() + 1, [&](const IterationStats& s) {
+        IterationStats logged = s;
+        logged.threads = counts[turn];
+        on_iteration(logged);
+      });
+    });
+  }
+}
+
 // Decodes the training views (and in stage two their ID maps) before the
 // first iteration, on all cores: a decode at first use kept the other core
 // idle and made each iteration of the first epoch slower.
@@ -153,7 +176,7 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
     trainer.save_checkpoint(checkpoint);
     if (trainer.refines_poses()) write_pose_file(out.refined_poses(), trainer.refined_poses());
   };
-  trainer.train_until(o.stop_at, [&](const IterationStats& s) {
+  const auto on_iteration = [&](const IterationStats& s) {
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     log.record(s, elapsed);
@@ -164,7 +187,11 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
     if (is_in(o.ply_at, s.iteration) && s.iteration != o.stop_at) write_ply_at(trainer, out);
     if (is_in(o.test_at, s.iteration) && s.iteration != o.stop_at && !trainer.split().test.empty())
       log.record_test(s.iteration, trainer.evaluate(trainer.split().test));
-  });
+  };
+  if (o.alternate_threads.empty())
+    trainer.train_until(o.stop_at, on_iteration);
+  else
+    train_alternating_threads(trainer, o.stop_at, o.alternate_threads, on_iteration);
   bar.finish();
   save_latest();
   write_ply_at(trainer, out);

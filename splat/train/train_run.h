@@ -32,6 +32,13 @@ struct TrainRunOptions {
   // points.
   std::filesystem::path start_checkpoint;
   std::filesystem::path labels_model;
+  // For measuring thread scaling: the run's k-th iteration runs on the
+  // (k mod n)-th of these n thread counts (bench/thread_scaling.sh gives
+  // 1 2 2 1), so that a machine whose speed drifts within minutes slows every
+  // count alike, and the log records each iteration's count. Training does
+  // not depend on the thread count, so the model is the same. Empty: every
+  // iteration on all the threads allowed.
+  std::vector<int> alternate_threads;
   void Check() const;
 };
 

@@ -124,6 +124,7 @@ struct IterationStats {
   std::vector<int32_t> objects;  // the objects sampled for it
   DensifyResult densified;       // what densification did this iteration, if anything
   bool opacity_reset = false;
+  int threads = 0;  // its worker threads, when run_training alternates them (0: not set)
 };
 
 struct ViewMetrics {

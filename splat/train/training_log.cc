@@ -56,6 +56,7 @@ void TrainingLog::record(const IterationStats& s, double elapsed) {
   if (s.opacity_reset) j["opacity_reset"] = true;
   if (s.downscale != 1) j["downscale"] = s.downscale;
   if (s.half_view) j["half_view"] = true;
+  if (s.threads > 0) j["threads"] = s.threads;
   if (!s.objects.empty()) j["object_loss"] = s.object_loss, j["objects"] = s.objects;
   append(j.dump());
 }

@@ -6,6 +6,10 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "splat/atomic_file.h"
 #include "splat/error.h"
@@ -19,6 +23,7 @@ namespace splat {
 namespace {
 
 namespace fs = std::filesystem;
+using testing_util::read_file;
 using testing_util::TempDir;
 
 // The tiny scene, generated once for the whole suite.
@@ -313,6 +318,36 @@ TEST(TrainRun, WritesEveryArtifactAndResumes) {
   o.stop_at = 160;
   o.test_at_end = false;  // a timed run: no test views scored
   EXPECT_EQ(run_training(tiny_scene(), dir / "work", o).test_views, 0u);
+}
+
+// Alternating the thread count per iteration (for bench/thread_scaling.sh)
+// trains the same model as all threads, and logs each iteration's count.
+TEST(TrainRun, AlternatingThreadsTrainsTheSameModelAndLogsEachCount) {
+  TempDir dir;
+  TrainRunOptions o;
+  o.train = quick_options();
+  o.stop_at = 160;  // through densification at 150
+  o.test_at_end = false;
+  run_training(tiny_scene(), dir / "all", o);
+  o.alternate_threads = {1, 2, 2};
+  run_training(tiny_scene(), dir / "alternating", o);
+  EXPECT_EQ(read_file(dir / "alternating" / "checkpoints" / "latest.ckpt"),
+            read_file(dir / "all" / "checkpoints" / "latest.ckpt"))
+      << "alternating the threads trains another model";
+  std::vector<int> logged;
+  std::ifstream log(dir / "alternating" / "train_log.jsonl");
+  for (std::string line; std::getline(log, line);)
+    logged.push_back(nlohmann::json::parse(line).value("threads", 0));
+  ASSERT_EQ(logged.size(), 160u);
+  for (size_t k = 0; k < logged.size(); ++k)
+    EXPECT_EQ(logged[k], k % 3 == 0 ? 1 : 2) << "iteration " << k + 1;
+  std::ifstream plain(dir / "all" / "train_log.jsonl");
+  std::string first;
+  std::getline(plain, first);
+  EXPECT_FALSE(nlohmann::json::parse(first).contains("threads"));
+
+  o.alternate_threads = {1, 0};
+  EXPECT_THROW(run_training(tiny_scene(), dir / "bad", o), std::invalid_argument);
 }
 
 }  // namespace
