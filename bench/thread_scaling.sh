@@ -6,7 +6,7 @@
 #
 # Each run trains with --alternate-threads 1 2 2 1: its iterations take 1,
 # 2, 2, 1, 1, 2, ... threads in turn, so that a machine whose speed drifts
-# within minutes (the VMs of docs/benchmarks.md, by a fifth) slows both
+# within minutes (the VMs of docs/benchmarks.md, by a fifth or more) slows both
 # counts alike, and training is the same model bit for bit as with either
 # count. Phases, each run ROUNDS times:
 #   early      stage one from the scene's SfM points (a few thousand large
@@ -23,10 +23,10 @@
 #
 # Environment: DOWNSCALE (1), TRAIN_OPTS (scene options, e.g. "--split
 # lerf"), LEARN_OPTS (op2gs-learn's, e.g. "--id-maps object_mask"), STEPS
-# (200, of which half on each count), ROUNDS (1), SCHEDULE (7500), LATE_AT (5000), MODEL (an op2gs
-# stage-one work folder with checkpoints/latest.ckpt at LATE_AT; without it
-# only the early phase runs), LABELS, PHASES (which of the phases to run;
-# default all that MODEL and LABELS allow).
+# (200, half of them on each count), ROUNDS (1), SCHEDULE (7500), LATE_AT
+# (5000), MODEL (an op2gs stage-one work folder with checkpoints/latest.ckpt
+# at LATE_AT; without it only the early phase runs), LABELS, PHASES (which
+# of the phases to run; default all that MODEL and LABELS allow).
 # Any failing step stops the script with its log's tail.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
