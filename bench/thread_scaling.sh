@@ -6,9 +6,13 @@
 #
 # Each run trains with --alternate-threads 1 2 2 1: its iterations take 1,
 # 2, 2, 1, 1, 2, ... threads in turn, so that a machine whose speed drifts
-# within minutes (the VMs of docs/benchmarks.md, by a fifth or more) slows both
-# counts alike, and training is the same model bit for bit as with either
-# count. Phases, each run ROUNDS times:
+# within minutes (the VMs of docs/benchmarks.md, by a fifth or more) slows
+# both counts alike, and training is the same model bit for bit as with
+# either count. A step's time also depends on its view (by a third either
+# way), and a run's views come in the same order every time, so even
+# rounds swap the counts (2 1 1 2): over two rounds each iteration, its
+# view and its model, is timed once with each count. Phases, each run
+# ROUNDS times:
 #   early      stage one from the scene's SfM points (a few thousand large
 #              Gaussians), STEPS iterations, before densification starts;
 #   late       stage one resumed from MODEL's checkpoint (LATE_AT), STEPS
@@ -16,14 +20,15 @@
 #   stage-two  op2gs-learn from the same checkpoint with the labels of
 #              LABELS (an op2gs-vote point cloud), STEPS iterations; run
 #              only when LABELS is set.
-# Each count's time per iteration is the median of its steps in the run's
-# train_log.jsonl, the first step left out (bench/timing.sh), and the
-# speed-up the ratio of the two medians; the views are decoded before the
-# first iteration, so no step waits on a photo.
+# Each count's time per iteration is the median of its steps in the runs'
+# train_log.jsonl, the first step of each left out (bench/timing.sh), and
+# the speed-up the ratio of the two medians; the views are decoded before
+# the first iteration, so no step waits on a photo.
 #
 # Environment: DOWNSCALE (1), TRAIN_OPTS (scene options, e.g. "--split
 # lerf"), LEARN_OPTS (op2gs-learn's, e.g. "--id-maps object_mask"), STEPS
-# (200, half of them on each count), ROUNDS (1), SCHEDULE (7500), LATE_AT
+# (200, half of them on each count), ROUNDS (2; even, so that the views
+# are the same for both counts), SCHEDULE (7500), LATE_AT
 # (5000), MODEL (an op2gs stage-one work folder with checkpoints/latest.ckpt
 # at LATE_AT; without it only the early phase runs), LABELS, PHASES (which
 # of the phases to run; default all that MODEL and LABELS allow).
@@ -39,7 +44,7 @@ downscale="${DOWNSCALE:-1}"
 read -r -a train_opts <<< "${TRAIN_OPTS:-}"
 read -r -a learn_opts <<< "${LEARN_OPTS:-}"
 steps="${STEPS:-200}"
-rounds="${ROUNDS:-1}"
+rounds="${ROUNDS:-2}"
 schedule="${SCHEDULE:-7500}"
 late_at="${LATE_AT:-5000}"
 model="${MODEL:-}"
@@ -63,11 +68,12 @@ common=("$scene" --resolution "$downscale" "${train_opts[@]}" --schedule "$sched
   --no-final-test --checkpoint-every "$never")
 end=$((late_at + steps))
 
-# Runs PHASE with the thread counts alternating, in a fresh folder; prints
-# its steps, one "THREADS SECONDS" a line.
-run_phase() {  # PHASE LABEL
+# Runs PHASE with the thread counts alternating (ORDER: 1 2 2 1 or 2 1 1 2),
+# in a fresh folder; prints its steps, one "THREADS SECONDS" a line.
+run_phase() {  # PHASE LABEL ORDER
   local phase="$1" label="$2" work="$out/run"
-  local alternate=(--alternate-threads 1 2 2 1)
+  local alternate
+  read -r -a alternate <<< "--alternate-threads $3"
   rm -rf "$work"
   case "$phase" in
     early)
@@ -110,9 +116,11 @@ results="$out/results.jsonl"
 for round in $(seq "$rounds"); do
   for phase in "${phases[@]}"; do
     steps_file="$out/steps_${phase}_round${round}.txt"
-    run_phase "$phase" "${phase}_round${round}" > "$steps_file"
+    order="1 2 2 1"
+    [ $((round % 2)) = 0 ] && order="2 1 1 2"
+    run_phase "$phase" "${phase}_round${round}" "$order" > "$steps_file"
     one=$(median_of "$steps_file" 1) two=$(median_of "$steps_file" 2)
-    echo "round $round, $phase: 1 thread $one s/it, 2 threads $two s/it"
+    echo "round $round ($order), $phase: 1 thread $one s/it, 2 threads $two s/it"
     printf '{"phase":"%s","round":%d,"s_per_iteration_1":%s,"s_per_iteration_2":%s}\n' \
       "$phase" "$round" "$one" "$two" >> "$results"
   done
