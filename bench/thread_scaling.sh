@@ -113,6 +113,7 @@ if [ -n "${PHASES:-}" ]; then
 fi
 results="$out/results.jsonl"
 : > "$results"
+rm -f "$out"/steps_*.txt  # an earlier invocation's rounds would join this one's summary
 for round in $(seq "$rounds"); do
   for phase in "${phases[@]}"; do
     steps_file="$out/steps_${phase}_round${round}.txt"
