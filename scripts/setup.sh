@@ -38,8 +38,9 @@ packages=(
 
 # The tests also drive headless Chromium (the report and its 3D viewer,
 # served by python3), build the fuzz harnesses with clang and bring up a
-# one-node Slurm cluster.
-if [ "$with_tests" -eq 1 ]; then packages+=(chromium python3 clang slurm-wlm munge); fi
+# one-node Slurm cluster (whose free ports `ss`, of iproute2, finds: a
+# minimal Debian has no iproute2).
+if [ "$with_tests" -eq 1 ]; then packages+=(chromium python3 clang slurm-wlm munge iproute2); fi
 
 missing=()
 for p in "${packages[@]}"; do
