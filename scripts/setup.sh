@@ -37,10 +37,13 @@ packages=(
 )
 
 # The tests also drive headless Chromium (the report and its 3D viewer,
-# served by python3), build the fuzz harnesses with clang and bring up a
+# served by python3), build the fuzz harnesses with clang and its sanitizer
+# runtimes (libclang-rt-14-dev, only recommended by clang) and bring up a
 # one-node Slurm cluster (whose free ports `ss`, of iproute2, finds: a
 # minimal Debian has no iproute2).
-if [ "$with_tests" -eq 1 ]; then packages+=(chromium python3 clang slurm-wlm munge iproute2); fi
+if [ "$with_tests" -eq 1 ]; then
+  packages+=(chromium python3 clang libclang-rt-14-dev slurm-wlm munge iproute2)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
