@@ -14,7 +14,10 @@ flock 9
 # /proc/PID/stat), as IDs are reused: a dead make's ID may now be another's.
 # A zombie (state Z: killed, its parent gone, init not reaping it) has ended.
 started() { sed 's/.*) //' "/proc/$1/stat" 2> /dev/null | awk '$1 != "Z" && $1 != "X" {print $20}'; }
-read -r holder holder_start < "$work/.op2gs.make" 2> /dev/null || true
+# The record is missing in a new work folder. (A failed "< file" is reported
+# before a "2> /dev/null" after it takes effect, so test for the file.)
+holder="" holder_start=""
+if [ -f "$work/.op2gs.make" ]; then read -r holder holder_start < "$work/.op2gs.make"; fi
 if [ -n "${holder:-}" ] && [ "$holder" != "$pid" ] && [ -n "$(started "$holder")" ] &&
    [ "$(started "$holder")" = "${holder_start:-}" ] &&
    grep -qa make "/proc/$holder/cmdline" 2> /dev/null; then

@@ -14,6 +14,8 @@ tiny=(DATASET=synthetic WORK_ROOT="$tmp/run" SYNTH_OPTS="--supersample 1 --point
 echo "-- every stage of a tiny synthetic scene"
 mk "${tiny[@]}" > "$tmp/first.log" 2>&1 || { tail -40 "$tmp/first.log"; fail "the tiny run failed"; }
 w="$tmp/run/demo"
+# A new work folder has no lock record yet: its first run says nothing of it.
+! grep -q "lock.sh" "$tmp/first.log" || fail "the first run printed an error of pipeline/lock.sh"
 for f in sfm/scene/sparse/0/images.bin checkpoints/latest.ckpt vote/point_cloud.ply \
          learn/checkpoints/latest.ckpt render/masks render/rgb render/instance_labels \
          embed/embeddings.json query/query.json eval/metrics.json report/report.html \
