@@ -18,8 +18,8 @@ started() { sed 's/.*) //' "/proc/$1/stat" 2> /dev/null | awk '$1 != "Z" && $1 !
 # before a "2> /dev/null" after it takes effect, so test for the file.)
 holder="" holder_start=""
 if [ -f "$work/.op2gs.make" ]; then read -r holder holder_start < "$work/.op2gs.make"; fi
-if [ -n "${holder:-}" ] && [ "$holder" != "$pid" ] && [ -n "$(started "$holder")" ] &&
-   [ "$(started "$holder")" = "${holder_start:-}" ] &&
+if [ -n "$holder" ] && [ "$holder" != "$pid" ] && [ -n "$(started "$holder")" ] &&
+   [ "$(started "$holder")" = "$holder_start" ] &&
    grep -qa make "/proc/$holder/cmdline" 2> /dev/null; then
   echo "$work: another make (process $holder) is running in this work folder; wait for it to finish"
   exit 0
