@@ -1,8 +1,9 @@
 // The rasterizer's backward pass: one tile's pixels walked back to front,
 // each Gaussian's gradient summed over its pixels as moments, with a portable
 // form of its lane sums and AVX-512 and AVX2 forms that add the lanes in one
-// order, and on AVX2 without AVX-512 the training losses' loop with its sums
-// in registers (the same bits). One step kept in one file, as gsplat
+// order, and for the training losses a loop with its sums in registers, a
+// whole block a register with AVX-512 and an 8-lane half with AVX2 (the
+// same bits). One step kept in one file, as gsplat
 // keeps its rasterize backward: its parts share the per-tile state and are
 // only correct together. The slow reference it is tested against is kept
 // apart, in tests/splat/render/reference_renderer.cc.
@@ -17,6 +18,7 @@
 #include <immintrin.h>
 #endif
 
+#include "splat/render/avx512_ops.h"
 #include "splat/render/fast_exp.h"
 #include "splat/render/gaussian_power.h"
 #include "splat/render/pixel_block.h"
@@ -456,13 +458,135 @@ inline void back_blocks_in_halves(const TileGaussians& tg, size_t k, unsigned re
 }
 #endif
 
+#if defined(__AVX512F__)
+// An entry's sums over the blocks it reaches, in registers (acc's rows but
+// depth).
+struct BlockSums {
+  __m512 x, y, xx, xy, yy, red, green, blue, opacity, instance_opacity;
+};
+
+// sum + value, or value for the first block (kFirst).
+template <bool kFirst>
+inline __m512 add_sum(__m512 sum, __m512 value) {
+  if constexpr (kFirst) return value;
+  return _mm512_add_ps(sum, value);
+}
+// sum + a b, fused as GCC fuses the lane loop's `sum += a * b`; a b first.
+template <bool kFirst>
+inline __m512 add_product(__m512 sum, __m512 a, __m512 b) {
+  if constexpr (kFirst) return _mm512_mul_ps(a, b);
+  return _mm512_fmadd_ps(a, b, sum);
+}
+
+// back_block<kColor, kInstance, no alpha or depth terms> on the 16 lanes of
+// one block in one register, the sums in registers and the conditions in
+// mask registers: the same operations where they round, fused alike, as GCC
+// compiles the lane loop, so the same bits.
+template <bool kInstance, bool kFirst>
+inline void back_block16(const SplatRecord& gs, int32_t position, float px0, float py0, int block,
+                         const float* g_plane, float op_star_geometry, TileBackState& s,
+                         BlockSums& sum) {
+  const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.f);
+  const __m512 dx = _mm512_sub_ps(_mm512_set1_ps(gs.mx - px0), _mm512_load_ps(kLaneOffsets.x));
+  const __m512 dy = _mm512_sub_ps(_mm512_set1_ps(gs.my - py0), _mm512_load_ps(kLaneOffsets.y));
+  const __m512 op = _mm512_set1_ps(gs.opacity);
+  const __m512 power = gaussian_power16(gs.A, gs.B, gs.C, dx, dy);
+  const __m512 G = fast_exp16(min16(power, zero));
+  const __m512 raw_alpha = _mm512_mul_ps(op, G);
+  const __m512 alpha = min16(raw_alpha, _mm512_set1_ps(kMaxAlpha));
+  const __m512i last = _mm512_load_si512(s.last[block]);
+  const __mmask16 valid = _mm512_cmpgt_epi32_mask(last, _mm512_set1_epi32(position)) &
+                          _mm512_cmp_ps_mask(power, zero, _CMP_LE_OQ) &
+                          _mm512_cmp_ps_mask(alpha, _mm512_set1_ps(kMinAlpha), _CMP_GE_OQ);
+  const __m512 inv_one_minus = _mm512_div_ps(one, _mm512_sub_ps(one, alpha));
+  float* T = s.T[block];
+  const __m512 T_after = _mm512_load_ps(T);
+  const __m512 T_i = _mm512_mask_mul_ps(T_after, valid, T_after, inv_one_minus);
+  const __m512 w = _mm512_maskz_mul_ps(valid, alpha, T_i);
+  const __m512 g_red = _mm512_load_ps(s.g_color[0][block]);
+  const __m512 g_green = _mm512_load_ps(s.g_color[1][block]);
+  const __m512 g_blue = _mm512_load_ps(s.g_color[2][block]);
+  // g_c = (g_red r + g_green g) + g_blue b, fused as GCC contracts it: the
+  // first product into the first sum, the last into the second.
+  __m512 g_c = _mm512_mul_ps(g_green, _mm512_set1_ps(gs.g));
+  g_c = _mm512_fmadd_ps(g_red, _mm512_set1_ps(gs.r), g_c);
+  g_c = _mm512_fmadd_ps(g_blue, _mm512_set1_ps(gs.b), g_c);
+  float* behind = s.behind_color[block];
+  const __m512 behind_before = _mm512_load_ps(behind);
+  __m512 g_alpha =
+      _mm512_add_ps(zero, _mm512_fmsub_ps(g_c, T_i, _mm512_mul_ps(behind_before, inv_one_minus)));
+  sum.red = add_product<kFirst>(sum.red, g_red, w);
+  sum.green = add_product<kFirst>(sum.green, g_green, w);
+  sum.blue = add_product<kFirst>(sum.blue, g_blue, w);
+  _mm512_store_ps(behind, _mm512_fmadd_ps(w, g_c, behind_before));
+  // A product with 0 or 1, not a masked move: a negative g_alpha times 0 is
+  // -0, as in the lane loop.
+  const __mmask16 unclamped = _mm512_cmp_ps_mask(raw_alpha, _mm512_set1_ps(kMaxAlpha), _CMP_LT_OQ);
+  g_alpha = _mm512_mul_ps(g_alpha, _mm512_maskz_mov_ps(valid & unclamped, one));
+  sum.opacity = add_product<kFirst>(sum.opacity, g_alpha, G);
+  __m512 g_G = _mm512_mul_ps(g_alpha, op);
+  if constexpr (kInstance) {
+    const __mmask16 unclamped_star =
+        _mm512_cmp_ps_mask(_mm512_mul_ps(_mm512_set1_ps(gs.instance_opacity), G),
+                           _mm512_set1_ps(kMaxAlpha), _CMP_LT_OQ);
+    const __m512 g_star = _mm512_mul_ps(
+        _mm512_mul_ps(_mm512_maskz_mov_ps(valid & unclamped_star, one), _mm512_loadu_ps(g_plane)),
+        T_i);
+    sum.instance_opacity = add_product<kFirst>(sum.instance_opacity, g_star, G);
+    // g_alpha op + g_star sigma*: GCC fuses the first product.
+    g_G = _mm512_fmadd_ps(g_alpha, op, _mm512_mul_ps(g_star, _mm512_set1_ps(op_star_geometry)));
+  }
+  const __m512 g_power = _mm512_mul_ps(g_G, G);
+  const __m512 g_dx = _mm512_mul_ps(g_power, dx), g_dy = _mm512_mul_ps(g_power, dy);
+  sum.x = add_sum<kFirst>(sum.x, g_dx);
+  sum.y = add_sum<kFirst>(sum.y, g_dy);
+  sum.xx = add_product<kFirst>(sum.xx, g_dx, dx);
+  sum.xy = add_product<kFirst>(sum.xy, g_dx, dy);
+  sum.yy = add_product<kFirst>(sum.yy, g_dy, dy);
+  _mm512_store_ps(T, T_i);
+}
+
+// back_blocks without alpha or depth terms (training's), each block in one
+// register and the entry's sums in registers across its blocks: the lane
+// loop loads and stores all eleven rows for every block and carries its
+// conditions as float 0/1 masks. Blocks in the same order, so the same sums.
+template <bool kInstance>
+inline void back_blocks_in_registers(const TileGaussians& tg, size_t k, unsigned reached,
+                                     int tile_x0, int tile_y0, const float* g_planes,
+                                     float instance_geometry, TileBackState& s,
+                                     float (&acc)[kEntryGrads][kLanes]) {
+  const SplatRecord& gs = tg[k];
+  const int first = __builtin_ctz(reached);
+  const PixelBlock first_block = PixelBlock::in_tile(tile_x0, tile_y0, first);
+  const float op_star_geometry = instance_geometry * gs.instance_opacity;  // as back_block's
+  auto plane = [&](int b) { return kInstance ? g_planes + b * kLanes : nullptr; };
+  BlockSums sum{};  // the first block sets every row
+  back_block16<kInstance, true>(gs, int32_t(k), first_block.cx0(), first_block.cy0(), first,
+                                plane(first), op_star_geometry, s, sum);
+  for_each_block(reached & (reached - 1), tile_x0, tile_y0, [&](int b, const PixelBlock& block) {
+    back_block16<kInstance, false>(gs, int32_t(k), block.cx0(), block.cy0(), b, plane(b),
+                                   op_star_geometry, s, sum);
+  });
+  const auto store = [&](int row, __m512 value) { _mm512_store_ps(acc[row], value); };
+  store(kSumX, sum.x), store(kSumY, sum.y), store(kSumXX, sum.xx), store(kSumXY, sum.xy);
+  store(kSumYY, sum.yy), store(kRed, sum.red), store(kGreen, sum.green), store(kBlue, sum.blue);
+  store(kOpacity, sum.opacity);
+  store(kDepth, _mm512_setzero_ps());
+  store(kInstanceOpacity, kInstance ? sum.instance_opacity : _mm512_setzero_ps());
+}
+#endif
+
 // Entry k's gradient terms over the blocks in `reached` (not empty) into
 // acc: the first block sets them, the others add to them.
 template <bool kColor, bool kInstance, bool kAlphaDepth>
 inline void back_blocks(const TileGaussians& tg, size_t k, unsigned reached, int tile_x0,
                         int tile_y0, const float* g_planes, float instance_geometry,
                         TileBackState& s, float (&acc)[kEntryGrads][kLanes]) {
-#if defined(__AVX2__) && defined(__FMA__) && !defined(__AVX512F__)
+#if defined(__AVX512F__)
+  if constexpr (kColor && !kAlphaDepth)
+    return back_blocks_in_registers<kInstance>(tg, k, reached, tile_x0, tile_y0, g_planes,
+                                               instance_geometry, s, acc);
+#elif defined(__AVX2__) && defined(__FMA__)
   if constexpr (kColor && !kAlphaDepth)
     return back_blocks_in_halves<kInstance>(tg, k, reached, tile_x0, tile_y0, g_planes,
                                             instance_geometry, s, acc);

@@ -10,6 +10,7 @@
 #include <immintrin.h>
 #endif
 
+#include "splat/render/avx512_ops.h"
 #include "splat/render/fast_exp.h"
 #include "splat/render/gaussian_power.h"
 #include "splat/render/pixel_block.h"
@@ -192,9 +193,80 @@ void blend_block_in_halves(const TileGaussians& tg, int b, const PixelBlock& blo
 }
 #endif
 
+#if defined(__AVX512F__)
+// blend_block without the label branch, the block's 16 lanes in one register
+// and its state in registers for the whole list, the conditions as mask
+// registers: GCC's lane loop stores the state after every entry and carries
+// each condition as a float 0/1 mask, a third more vector instructions an
+// entry. The same operations as blend's where they round, so the same bits.
+template <bool kColor, bool kDepth, bool kInstance>
+void blend_block_in_registers(const TileGaussians& tg, int b, const PixelBlock& block,
+                              BlockState& s) {
+  const uint32_t* entries = tg.block_list(b);
+  const uint32_t count = tg.block_count[b];
+  const float x0 = block.cx0(), y0 = block.cy0();
+  const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.f);
+  const __m512 offset_x = _mm512_load_ps(kLaneOffsets.x);
+  const __m512 offset_y = _mm512_load_ps(kLaneOffsets.y);
+  __m512 T = _mm512_load_ps(s.T);
+  __mmask16 done = _mm512_cmp_ps_mask(_mm512_load_ps(s.done), zero, _CMP_NEQ_UQ);
+  __m512 red = _mm512_load_ps(s.color[0]), green = _mm512_load_ps(s.color[1]);
+  __m512 blue = _mm512_load_ps(s.color[2]), depth = _mm512_load_ps(s.depth);
+  __m512i last = _mm512_load_si512(s.last), blended = _mm512_load_si512(s.blended);
+  for (uint32_t e = 0; e < count; ++e) {
+    const size_t k = entries[e];
+    const SplatRecord& g = tg[k];
+    const __m512 dx = _mm512_sub_ps(_mm512_set1_ps(g.mx - x0), offset_x);
+    const __m512 dy = _mm512_sub_ps(_mm512_set1_ps(g.my - y0), offset_y);
+    const __m512 power = gaussian_power16(g.A, g.B, g.C, dx, dy);
+    const __m512 G = fast_exp16(min16(power, zero));
+    const __m512 alpha =
+        min16(_mm512_mul_ps(_mm512_set1_ps(g.opacity), G), _mm512_set1_ps(kMaxAlpha));
+    const __mmask16 valid =
+        _mm512_kandn(done, _mm512_cmp_ps_mask(power, zero, _CMP_LE_OQ) &
+                               _mm512_cmp_ps_mask(alpha, _mm512_set1_ps(kMinAlpha), _CMP_GE_OQ));
+    const __m512 next_T = _mm512_mul_ps(T, _mm512_sub_ps(one, alpha));
+    const __mmask16 terminate =
+        _mm512_mask_cmp_ps_mask(valid, next_T, _mm512_set1_ps(kMinTransmittance), _CMP_LT_OQ);
+    const __mmask16 contribute = _mm512_kandn(terminate, valid);
+    const __m512 w = _mm512_maskz_mul_ps(contribute, alpha, T);
+    if constexpr (kColor) {
+      red = _mm512_fmadd_ps(w, _mm512_set1_ps(g.r), red);
+      green = _mm512_fmadd_ps(w, _mm512_set1_ps(g.g), green);
+      blue = _mm512_fmadd_ps(w, _mm512_set1_ps(g.b), blue);
+    }
+    if constexpr (kDepth) depth = _mm512_fmadd_ps(w, _mm512_set1_ps(g.depth), depth);
+    if (kInstance && g.plane >= 0) {
+      s.touch(g.plane);
+      float* plane = &s.planes[size_t(g.plane) * kLanes];
+      const __m512 alpha_star =
+          min16(_mm512_mul_ps(_mm512_set1_ps(g.instance_opacity), G), _mm512_set1_ps(kMaxAlpha));
+      const __m512 share = _mm512_maskz_mov_ps(contribute, alpha_star);
+      _mm512_storeu_ps(plane, _mm512_fmadd_ps(share, T, _mm512_loadu_ps(plane)));
+    }
+    last = _mm512_mask_set1_epi32(last, contribute, int32_t(k) + 1);
+    blended = _mm512_mask_sub_epi32(blended, contribute, blended, _mm512_set1_epi32(-1));
+    T = _mm512_mask_mov_ps(T, contribute, next_T);
+    done = _mm512_kor(done, terminate);
+    if ((e & 15) == 15 && done == 0xffff) break;
+  }
+  // What store_block reads; `done` is not read after the block.
+  _mm512_store_ps(s.T, T);
+  _mm512_store_ps(s.color[0], red);
+  _mm512_store_ps(s.color[1], green);
+  _mm512_store_ps(s.color[2], blue);
+  _mm512_store_ps(s.depth, depth);
+  _mm512_store_si512(s.last, last);
+  _mm512_store_si512(s.blended, blended);
+}
+#endif
+
 template <bool kColor, bool kDepth, bool kInstance, bool kLabels>
 void blend_block(const TileGaussians& tg, int b, const PixelBlock& block, BlockState& s) {
-#if defined(__AVX2__) && defined(__FMA__) && !defined(__AVX512F__)
+#if defined(__AVX512F__)
+  if constexpr (!kLabels)
+    return blend_block_in_registers<kColor, kDepth, kInstance>(tg, b, block, s);
+#elif defined(__AVX2__) && defined(__FMA__)
   if constexpr (!kLabels) return blend_block_in_halves<kColor, kDepth, kInstance>(tg, b, block, s);
 #endif
   const uint32_t* entries = tg.block_list(b);

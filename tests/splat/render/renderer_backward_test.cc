@@ -296,8 +296,8 @@ TEST(RendererBackward, ColourAndObjectLossTogetherAreTheSumOfEach) {
 
 // The gradient of a colour and object loss through the rasterizer's loop over
 // lanes (taken when the loss also has alpha or depth terms, here zero) and,
-// on AVX2 without AVX-512, through the loop that keeps one 8-lane half's sums
-// in registers (training's losses): the same bits.
+// with AVX-512 or AVX2, through the loop that keeps its sums in registers (a
+// block a register, or an 8-lane half; training's losses): the same bits.
 TEST(RendererBackward, GradientIsTheSameThroughEitherLaneLoop) {
   const GaussianModel m = random_scene(400, 31);
   const Camera cam = test_camera(70, 45);  // lanes off the image in the last blocks

@@ -167,8 +167,9 @@ TEST(Renderer, InstanceOnlyRenderGivesTheSameMaps) {
 }
 
 // A render with the label maps blends in the loop over lanes; one without
-// them, on AVX2 without AVX-512, one 8-lane half at a time with its state in
-// registers (with or without the occupancy maps). Both must give the same
+// them, with AVX-512, one block a register with its state in registers, and
+// on AVX2 without AVX-512 one 8-lane half at a time likewise (with or without
+// the occupancy maps). Both must give the same
 // bits, whichever loop a build runs.
 TEST(Renderer, RenderIsTheSameWithOrWithoutTheLabelMaps) {
   for (unsigned seed : {3u, 12u}) {
