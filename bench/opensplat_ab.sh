@@ -61,7 +61,7 @@ mkdir -p "$out/logs"
 out="$(cd "$out" && pwd)"
 logs="$out/logs"
 
-[ -x "$opensplat" ] || fail "$opensplat: not an executable (the OpenSplat binary)"
+[ -f "$opensplat" ] && [ -x "$opensplat" ] || fail "$opensplat: not an executable file (the OpenSplat binary)"
 [ -x "$train" ] || fail "$train: missing (build op2gs first)"
 for f in images sparse/0; do
   [ -e "$scene/$f" ] || fail "$scene/$f: missing (an op2gs scene folder: images/, sparse/0/)"
