@@ -7,10 +7,7 @@
 
 #include <cstdint>
 
-#include "splat/render/avx512_ops.h"
-#if defined(__AVX2__) && defined(__FMA__)
-#include <immintrin.h>
-#endif
+#include "splat/render/simd_lanes.h"
 
 namespace splat {
 
@@ -37,49 +34,29 @@ inline float fast_exp(float x) {
 }
 
 #if defined(__AVX2__) && defined(__FMA__)
-// fast_exp of 8 lanes, operation for operation as GCC compiles the scalar
-// form in the rasterizer's lane loops (with its products and sums fused as
-// -ffp-contract=fast fuses them there), so that both give the same bits. For
-// the AVX2 loops that keep their state in registers.
-inline __m256 fast_exp8(__m256 x) {
-  x = _mm256_max_ps(x, _mm256_set1_ps(-87.0f));  // x < -87 ? -87 : x
-  const __m256 magic = _mm256_set1_ps(12582912.f);
-  const __m256 shifted = _mm256_fmadd_ps(x, _mm256_set1_ps(1.44269504088896341f), magic);
-  const __m256 n = _mm256_sub_ps(shifted, magic);
-  __m256 r = _mm256_fnmadd_ps(n, _mm256_set1_ps(0.693145751953125f), x);
-  r = _mm256_fnmadd_ps(n, _mm256_set1_ps(1.428606765330187045e-06f), r);
-  __m256 p = _mm256_set1_ps(1.0f / 720.0f);
-  p = _mm256_fmadd_ps(p, r, _mm256_set1_ps(1.0f / 120.0f));
-  p = _mm256_fmadd_ps(p, r, _mm256_set1_ps(1.0f / 24.0f));
-  p = _mm256_fmadd_ps(p, r, _mm256_set1_ps(1.0f / 6.0f));
-  p = _mm256_fmadd_ps(p, r, _mm256_set1_ps(0.5f));
-  p = _mm256_fmadd_ps(p, r, _mm256_set1_ps(1.0f));
-  p = _mm256_fmadd_ps(p, r, _mm256_set1_ps(1.0f));
-  const __m256i bits = _mm256_add_epi32(_mm256_slli_epi32(_mm256_castps_si256(shifted), 23),
-                                        _mm256_set1_epi32(127 << 23));
-  return _mm256_mul_ps(p, _mm256_castsi256_ps(bits));
-}
-#endif
-
-#if defined(__AVX512F__)
-// fast_exp of 16 lanes, the same operations as GCC's vectorised scalar form,
-// but 2^n applied by one scale instruction instead of building its bits and
-// multiplying: both round p 2^n once, so the same bits (n >= -126 here).
-inline __m512 fast_exp16(__m512 x) {
-  x = max16(x, _mm512_set1_ps(-87.0f));
-  const __m512 magic = _mm512_set1_ps(12582912.f);
-  const __m512 shifted = _mm512_fmadd_ps(x, _mm512_set1_ps(1.44269504088896341f), magic);
-  const __m512 n = _mm512_sub_ps(shifted, magic);
-  __m512 r = _mm512_fnmadd_ps(n, _mm512_set1_ps(0.693145751953125f), x);
-  r = _mm512_fnmadd_ps(n, _mm512_set1_ps(1.428606765330187045e-06f), r);
-  __m512 p = _mm512_set1_ps(1.0f / 720.0f);
-  p = _mm512_fmadd_ps(p, r, _mm512_set1_ps(1.0f / 120.0f));
-  p = _mm512_fmadd_ps(p, r, _mm512_set1_ps(1.0f / 24.0f));
-  p = _mm512_fmadd_ps(p, r, _mm512_set1_ps(1.0f / 6.0f));
-  p = _mm512_fmadd_ps(p, r, _mm512_set1_ps(0.5f));
-  p = _mm512_fmadd_ps(p, r, _mm512_set1_ps(1.0f));
-  p = _mm512_fmadd_ps(p, r, _mm512_set1_ps(1.0f));
-  return scalef16(p, n);
+// fast_exp of a register of lanes (splat/render/simd_lanes.h), operation for
+// operation as GCC compiles the scalar form in the rasterizer's lane loops
+// (with its products and sums fused as -ffp-contract=fast fuses them there),
+// so that both give the same bits; 2^n is applied by V::times_two_to, which
+// rounds p 2^n once (n >= -126 here). For the loops that keep their state in
+// registers.
+template <typename V>
+inline typename V::F fast_exp_lanes(typename V::F x) {
+  using F = typename V::F;
+  x = V::max(x, V::set1(-87.0f));  // x < -87 ? -87 : x
+  const F magic = V::set1(12582912.f);
+  const F shifted = V::fmadd(x, V::set1(1.44269504088896341f), magic);
+  const F n = V::sub(shifted, magic);
+  F r = V::fnmadd(n, V::set1(0.693145751953125f), x);
+  r = V::fnmadd(n, V::set1(1.428606765330187045e-06f), r);
+  F p = V::set1(1.0f / 720.0f);
+  p = V::fmadd(p, r, V::set1(1.0f / 120.0f));
+  p = V::fmadd(p, r, V::set1(1.0f / 24.0f));
+  p = V::fmadd(p, r, V::set1(1.0f / 6.0f));
+  p = V::fmadd(p, r, V::set1(0.5f));
+  p = V::fmadd(p, r, V::set1(1.0f));
+  p = V::fmadd(p, r, V::set1(1.0f));
+  return V::times_two_to(p, n, shifted);
 }
 #endif
 

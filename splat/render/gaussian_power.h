@@ -2,9 +2,7 @@
 // The exponent of a projected Gaussian at a pixel, shared by the forward and
 // backward rasterizers so that both take the same side of every threshold.
 
-#if defined(__AVX2__)
-#include <immintrin.h>
-#endif
+#include "splat/render/simd_lanes.h"
 
 namespace splat {
 
@@ -30,22 +28,16 @@ inline float gaussian_power(float A, float B, float C, float dx, float dy) {
 }
 
 #if defined(__AVX2__) && defined(__FMA__)
-// gaussian_power of 8 lanes: the same products, fused alike.
-inline __m256 gaussian_power8(float A, float B, float C, __m256 dx, __m256 dy) {
-  const __m256 C_dy_dy = _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(C), dy), dy);
-  const __m256 quadratic = _mm256_fmadd_ps(_mm256_mul_ps(_mm256_set1_ps(A), dx), dx, C_dy_dy);
-  const __m256 B_dx_dy = _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(B), dx), dy);
-  return _mm256_fmsub_ps(_mm256_set1_ps(-0.5f), quadratic, B_dx_dy);
-}
-#endif
-
-#if defined(__AVX512F__)
-// gaussian_power of 16 lanes, fused as GCC fuses the scalar form there.
-inline __m512 gaussian_power16(float A, float B, float C, __m512 dx, __m512 dy) {
-  const __m512 C_dy_dy = _mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(C), dy), dy);
-  const __m512 quadratic = _mm512_fmadd_ps(_mm512_mul_ps(_mm512_set1_ps(A), dx), dx, C_dy_dy);
-  const __m512 B_dx_dy = _mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(B), dx), dy);
-  return _mm512_fmsub_ps(_mm512_set1_ps(-0.5f), quadratic, B_dx_dy);
+// gaussian_power of a register of lanes (splat/render/simd_lanes.h): the
+// same products, fused alike.
+template <typename V>
+inline typename V::F gaussian_power_lanes(float A, float B, float C, typename V::F dx,
+                                          typename V::F dy) {
+  using F = typename V::F;
+  const F C_dy_dy = V::mul(V::mul(V::set1(C), dy), dy);
+  const F quadratic = V::fmadd(V::mul(V::set1(A), dx), dx, C_dy_dy);
+  const F B_dx_dy = V::mul(V::mul(V::set1(B), dx), dy);
+  return V::fmsub(V::set1(-0.5f), quadratic, B_dx_dy);
 }
 #endif
 

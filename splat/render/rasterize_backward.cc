@@ -18,7 +18,6 @@
 #include <immintrin.h>
 #endif
 
-#include "splat/render/avx512_ops.h"
 #include "splat/render/fast_exp.h"
 #include "splat/render/gaussian_power.h"
 #include "splat/render/pixel_block.h"
@@ -341,238 +340,124 @@ inline void for_each_block(unsigned blocks, int tile_x0, int tile_y0, Visit&& vi
   }
 }
 
-#if defined(__AVX2__) && defined(__FMA__) && !defined(__AVX512F__)
-// An entry's sums over one 8-lane half of the blocks it reaches, in
-// registers (acc's rows but depth).
-struct HalfSums {
-  __m256 x, y, xx, xy, yy, red, green, blue, opacity, instance_opacity;
+#if defined(__AVX2__) && defined(__FMA__)
+// An entry's sums over the blocks it reaches, one register of lanes each,
+// in registers (acc's rows but depth).
+struct LaneSums {
+  RegisterLanes::F x, y, xx, xy, yy, red, green, blue, opacity, instance_opacity;
 };
 
 // sum + value, or value for the first block (kFirst).
 template <bool kFirst>
-inline __m256 add_sum(__m256 sum, __m256 value) {
+inline RegisterLanes::F add_sum(RegisterLanes::F sum, RegisterLanes::F value) {
   if constexpr (kFirst) return value;
-  return _mm256_add_ps(sum, value);
+  return RegisterLanes::add(sum, value);
 }
 // sum + a b, fused as GCC fuses the lane loop's `sum += a * b`; a b first.
 template <bool kFirst>
-inline __m256 add_product(__m256 sum, __m256 a, __m256 b) {
-  if constexpr (kFirst) return _mm256_mul_ps(a, b);
-  return _mm256_fmadd_ps(a, b, sum);
+inline RegisterLanes::F add_product(RegisterLanes::F sum, RegisterLanes::F a, RegisterLanes::F b) {
+  if constexpr (kFirst) return RegisterLanes::mul(a, b);
+  return RegisterLanes::fmadd(a, b, sum);
 }
 
-// back_block<kColor, kInstance, no alpha or depth terms> on lanes h .. h + 7
-// of one block, with the sums in registers: the same operations, fused
-// alike, as GCC compiles the lane loop, so the same bits.
+// back_block<kColor, kInstance, no alpha or depth terms> on lanes h .. h +
+// kWidth - 1 of one block, the sums in registers and the conditions as
+// masks: the same operations where they round, fused alike, as GCC compiles
+// the lane loop, so the same bits.
 template <bool kInstance, bool kFirst>
-inline void back_half(const SplatRecord& gs, int32_t position, float px0, float py0, int block,
-                      int h, const float* g_plane, float op_star_geometry, TileBackState& s,
-                      HalfSums& sum) {
-  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.f);
-  const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(gs.mx - px0), _mm256_load_ps(kLaneOffsets.x + h));
-  const __m256 dy = _mm256_sub_ps(_mm256_set1_ps(gs.my - py0), _mm256_load_ps(kLaneOffsets.y + h));
-  const __m256 op = _mm256_set1_ps(gs.opacity);
-  const __m256 power = gaussian_power8(gs.A, gs.B, gs.C, dx, dy);
-  const __m256 G = fast_exp8(_mm256_min_ps(power, zero));
-  const __m256 raw_alpha = _mm256_mul_ps(op, G);
-  const __m256 alpha = _mm256_min_ps(raw_alpha, _mm256_set1_ps(kMaxAlpha));
-  const __m256i last = _mm256_load_si256(reinterpret_cast<const __m256i*>(s.last[block] + h));
-  const __m256 valid_mask =
-      _mm256_and_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(last, _mm256_set1_epi32(position))),
-                    _mm256_and_ps(_mm256_cmp_ps(power, zero, _CMP_LE_OQ),
-                                  _mm256_cmp_ps(alpha, _mm256_set1_ps(kMinAlpha), _CMP_GE_OQ)));
-  const __m256 m_valid = _mm256_and_ps(valid_mask, one);
-  const __m256 inv_one_minus = _mm256_div_ps(one, _mm256_sub_ps(one, alpha));
+inline void back_lanes(const SplatRecord& gs, int32_t position, float px0, float py0, int block,
+                       int h, const float* g_plane, float op_star_geometry, TileBackState& s,
+                       LaneSums& sum) {
+  using V = RegisterLanes;
+  using F = V::F;
+  using M = V::M;
+  const F zero = V::zero(), one = V::set1(1.f);
+  const F dx = V::sub(V::set1(gs.mx - px0), V::load(kLaneOffsets.x + h));
+  const F dy = V::sub(V::set1(gs.my - py0), V::load(kLaneOffsets.y + h));
+  const F op = V::set1(gs.opacity);
+  const F power = gaussian_power_lanes<V>(gs.A, gs.B, gs.C, dx, dy);
+  const F G = fast_exp_lanes<V>(V::min(power, zero));
+  const F raw_alpha = V::mul(op, G);
+  const F alpha = V::min(raw_alpha, V::set1(kMaxAlpha));
+  const M valid =
+      V::both(V::greater(V::load(s.last[block] + h), V::set1(position)),
+              V::both(V::less_equal(power, zero), V::greater_equal(alpha, V::set1(kMinAlpha))));
+  const F inv_one_minus = V::div(one, V::sub(one, alpha));
   float* T = s.T[block] + h;
-  const __m256 T_after = _mm256_load_ps(T);
-  const __m256 T_i = _mm256_blendv_ps(T_after, _mm256_mul_ps(T_after, inv_one_minus), valid_mask);
-  const __m256 w = _mm256_mul_ps(_mm256_mul_ps(m_valid, alpha), T_i);
-  const __m256 g_red = _mm256_load_ps(s.g_color[0][block] + h);
-  const __m256 g_green = _mm256_load_ps(s.g_color[1][block] + h);
-  const __m256 g_blue = _mm256_load_ps(s.g_color[2][block] + h);
+  const F T_after = V::load(T);
+  const F T_i = V::select(valid, V::mul(T_after, inv_one_minus), T_after);
+  const F w = V::zero_unless(valid, V::mul(alpha, T_i));
+  const F g_red = V::load(s.g_color[0][block] + h);
+  const F g_green = V::load(s.g_color[1][block] + h);
+  const F g_blue = V::load(s.g_color[2][block] + h);
   // g_c = (g_red r + g_green g) + g_blue b, fused as GCC contracts it: the
   // first product into the first sum, the last into the second.
-  __m256 g_c = _mm256_mul_ps(g_green, _mm256_set1_ps(gs.g));
-  g_c = _mm256_fmadd_ps(g_red, _mm256_set1_ps(gs.r), g_c);
-  g_c = _mm256_fmadd_ps(g_blue, _mm256_set1_ps(gs.b), g_c);
+  F g_c = V::mul(g_green, V::set1(gs.g));
+  g_c = V::fmadd(g_red, V::set1(gs.r), g_c);
+  g_c = V::fmadd(g_blue, V::set1(gs.b), g_c);
   float* behind = s.behind_color[block] + h;
-  const __m256 behind_before = _mm256_load_ps(behind);
-  __m256 g_alpha =
-      _mm256_add_ps(zero, _mm256_fmsub_ps(g_c, T_i, _mm256_mul_ps(behind_before, inv_one_minus)));
+  const F behind_before = V::load(behind);
+  F g_alpha = V::add(zero, V::fmsub(g_c, T_i, V::mul(behind_before, inv_one_minus)));
   sum.red = add_product<kFirst>(sum.red, g_red, w);
   sum.green = add_product<kFirst>(sum.green, g_green, w);
   sum.blue = add_product<kFirst>(sum.blue, g_blue, w);
-  _mm256_store_ps(behind, _mm256_fmadd_ps(w, g_c, behind_before));
-  const __m256 unclamped = _mm256_cmp_ps(raw_alpha, _mm256_set1_ps(kMaxAlpha), _CMP_LT_OQ);
-  g_alpha = _mm256_mul_ps(g_alpha, _mm256_and_ps(m_valid, unclamped));
+  V::store(behind, V::fmadd(w, g_c, behind_before));
+  // A product with 0 or 1, not a select: a negative g_alpha times 0 is -0,
+  // as in the lane loop.
+  const M unclamped = V::less(raw_alpha, V::set1(kMaxAlpha));
+  g_alpha = V::mul(g_alpha, V::ones_where(V::both(valid, unclamped)));
   sum.opacity = add_product<kFirst>(sum.opacity, g_alpha, G);
-  __m256 g_G = _mm256_mul_ps(g_alpha, op);
+  F g_G = V::mul(g_alpha, op);
   if constexpr (kInstance) {
-    const __m256 unclamped_star =
-        _mm256_cmp_ps(_mm256_mul_ps(_mm256_set1_ps(gs.instance_opacity), G),
-                      _mm256_set1_ps(kMaxAlpha), _CMP_LT_OQ);
-    const __m256 g_star = _mm256_mul_ps(
-        _mm256_mul_ps(_mm256_and_ps(m_valid, unclamped_star), _mm256_loadu_ps(g_plane + h)), T_i);
+    const M unclamped_star = V::less(V::mul(V::set1(gs.instance_opacity), G), V::set1(kMaxAlpha));
+    const F g_star =
+        V::mul(V::mul(V::ones_where(V::both(valid, unclamped_star)), V::loadu(g_plane + h)), T_i);
     sum.instance_opacity = add_product<kFirst>(sum.instance_opacity, g_star, G);
     // g_alpha op + g_star sigma*: GCC fuses the first product.
-    g_G = _mm256_fmadd_ps(g_alpha, op, _mm256_mul_ps(g_star, _mm256_set1_ps(op_star_geometry)));
+    g_G = V::fmadd(g_alpha, op, V::mul(g_star, V::set1(op_star_geometry)));
   }
-  const __m256 g_power = _mm256_mul_ps(g_G, G);
-  const __m256 g_dx = _mm256_mul_ps(g_power, dx), g_dy = _mm256_mul_ps(g_power, dy);
+  const F g_power = V::mul(g_G, G);
+  const F g_dx = V::mul(g_power, dx), g_dy = V::mul(g_power, dy);
   sum.x = add_sum<kFirst>(sum.x, g_dx);
   sum.y = add_sum<kFirst>(sum.y, g_dy);
   sum.xx = add_product<kFirst>(sum.xx, g_dx, dx);
   sum.xy = add_product<kFirst>(sum.xy, g_dx, dy);
   sum.yy = add_product<kFirst>(sum.yy, g_dy, dy);
-  _mm256_store_ps(T, T_i);
+  V::store(T, T_i);
 }
 
-// back_blocks without alpha or depth terms (training's), one 8-lane half of
-// every block at a time so that the entry's sums stay in registers: the
-// lane loop loads and stores all eleven rows for every block, twice the
-// vectors on AVX2. Blocks in the same order, so the same sums.
-template <bool kInstance>
-inline void back_blocks_in_halves(const TileGaussians& tg, size_t k, unsigned reached, int tile_x0,
-                                  int tile_y0, const float* g_planes, float instance_geometry,
-                                  TileBackState& s, float (&acc)[kEntryGrads][kLanes]) {
-  const SplatRecord& gs = tg[k];
-  const int first = __builtin_ctz(reached);
-  const PixelBlock first_block = PixelBlock::in_tile(tile_x0, tile_y0, first);
-  const float op_star_geometry = instance_geometry * gs.instance_opacity;  // as back_block's
-  auto plane = [&](int b) { return kInstance ? g_planes + b * kLanes : nullptr; };
-  for (int h = 0; h < kLanes; h += 8) {
-    HalfSums sum{};  // the first block sets every row
-    back_half<kInstance, true>(gs, int32_t(k), first_block.cx0(), first_block.cy0(), first, h,
-                               plane(first), op_star_geometry, s, sum);
-    for_each_block(reached & (reached - 1), tile_x0, tile_y0, [&](int b, const PixelBlock& block) {
-      back_half<kInstance, false>(gs, int32_t(k), block.cx0(), block.cy0(), b, h, plane(b),
-                                  op_star_geometry, s, sum);
-    });
-    const auto store = [&](int row, __m256 value) { _mm256_store_ps(acc[row] + h, value); };
-    store(kSumX, sum.x), store(kSumY, sum.y), store(kSumXX, sum.xx), store(kSumXY, sum.xy);
-    store(kSumYY, sum.yy), store(kRed, sum.red), store(kGreen, sum.green), store(kBlue, sum.blue);
-    store(kOpacity, sum.opacity);
-    store(kDepth, _mm256_setzero_ps());
-    store(kInstanceOpacity, kInstance ? sum.instance_opacity : _mm256_setzero_ps());
-  }
-}
-#endif
-
-#if defined(__AVX512F__)
-// An entry's sums over the blocks it reaches, in registers (acc's rows but
-// depth).
-struct BlockSums {
-  __m512 x, y, xx, xy, yy, red, green, blue, opacity, instance_opacity;
-};
-
-// sum + value, or value for the first block (kFirst).
-template <bool kFirst>
-inline __m512 add_sum(__m512 sum, __m512 value) {
-  if constexpr (kFirst) return value;
-  return _mm512_add_ps(sum, value);
-}
-// sum + a b, fused as GCC fuses the lane loop's `sum += a * b`; a b first.
-template <bool kFirst>
-inline __m512 add_product(__m512 sum, __m512 a, __m512 b) {
-  if constexpr (kFirst) return _mm512_mul_ps(a, b);
-  return _mm512_fmadd_ps(a, b, sum);
-}
-
-// back_block<kColor, kInstance, no alpha or depth terms> on the 16 lanes of
-// one block in one register, the sums in registers and the conditions in
-// mask registers: the same operations where they round, fused alike, as GCC
-// compiles the lane loop, so the same bits.
-template <bool kInstance, bool kFirst>
-inline void back_block16(const SplatRecord& gs, int32_t position, float px0, float py0, int block,
-                         const float* g_plane, float op_star_geometry, TileBackState& s,
-                         BlockSums& sum) {
-  const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.f);
-  const __m512 dx = _mm512_sub_ps(_mm512_set1_ps(gs.mx - px0), _mm512_load_ps(kLaneOffsets.x));
-  const __m512 dy = _mm512_sub_ps(_mm512_set1_ps(gs.my - py0), _mm512_load_ps(kLaneOffsets.y));
-  const __m512 op = _mm512_set1_ps(gs.opacity);
-  const __m512 power = gaussian_power16(gs.A, gs.B, gs.C, dx, dy);
-  const __m512 G = fast_exp16(min16(power, zero));
-  const __m512 raw_alpha = _mm512_mul_ps(op, G);
-  const __m512 alpha = min16(raw_alpha, _mm512_set1_ps(kMaxAlpha));
-  const __m512i last = _mm512_load_si512(s.last[block]);
-  const __mmask16 valid = _mm512_cmpgt_epi32_mask(last, _mm512_set1_epi32(position)) &
-                          _mm512_cmp_ps_mask(power, zero, _CMP_LE_OQ) &
-                          _mm512_cmp_ps_mask(alpha, _mm512_set1_ps(kMinAlpha), _CMP_GE_OQ);
-  const __m512 inv_one_minus = _mm512_div_ps(one, _mm512_sub_ps(one, alpha));
-  float* T = s.T[block];
-  const __m512 T_after = _mm512_load_ps(T);
-  const __m512 T_i = _mm512_mask_mul_ps(T_after, valid, T_after, inv_one_minus);
-  const __m512 w = _mm512_maskz_mul_ps(valid, alpha, T_i);
-  const __m512 g_red = _mm512_load_ps(s.g_color[0][block]);
-  const __m512 g_green = _mm512_load_ps(s.g_color[1][block]);
-  const __m512 g_blue = _mm512_load_ps(s.g_color[2][block]);
-  // g_c = (g_red r + g_green g) + g_blue b, fused as GCC contracts it: the
-  // first product into the first sum, the last into the second.
-  __m512 g_c = _mm512_mul_ps(g_green, _mm512_set1_ps(gs.g));
-  g_c = _mm512_fmadd_ps(g_red, _mm512_set1_ps(gs.r), g_c);
-  g_c = _mm512_fmadd_ps(g_blue, _mm512_set1_ps(gs.b), g_c);
-  float* behind = s.behind_color[block];
-  const __m512 behind_before = _mm512_load_ps(behind);
-  __m512 g_alpha =
-      _mm512_add_ps(zero, _mm512_fmsub_ps(g_c, T_i, _mm512_mul_ps(behind_before, inv_one_minus)));
-  sum.red = add_product<kFirst>(sum.red, g_red, w);
-  sum.green = add_product<kFirst>(sum.green, g_green, w);
-  sum.blue = add_product<kFirst>(sum.blue, g_blue, w);
-  _mm512_store_ps(behind, _mm512_fmadd_ps(w, g_c, behind_before));
-  // A product with 0 or 1, not a masked move: a negative g_alpha times 0 is
-  // -0, as in the lane loop.
-  const __mmask16 unclamped = _mm512_cmp_ps_mask(raw_alpha, _mm512_set1_ps(kMaxAlpha), _CMP_LT_OQ);
-  g_alpha = _mm512_mul_ps(g_alpha, _mm512_maskz_mov_ps(valid & unclamped, one));
-  sum.opacity = add_product<kFirst>(sum.opacity, g_alpha, G);
-  __m512 g_G = _mm512_mul_ps(g_alpha, op);
-  if constexpr (kInstance) {
-    const __mmask16 unclamped_star =
-        _mm512_cmp_ps_mask(_mm512_mul_ps(_mm512_set1_ps(gs.instance_opacity), G),
-                           _mm512_set1_ps(kMaxAlpha), _CMP_LT_OQ);
-    const __m512 g_star = _mm512_mul_ps(
-        _mm512_mul_ps(_mm512_maskz_mov_ps(valid & unclamped_star, one), _mm512_loadu_ps(g_plane)),
-        T_i);
-    sum.instance_opacity = add_product<kFirst>(sum.instance_opacity, g_star, G);
-    // g_alpha op + g_star sigma*: GCC fuses the first product.
-    g_G = _mm512_fmadd_ps(g_alpha, op, _mm512_mul_ps(g_star, _mm512_set1_ps(op_star_geometry)));
-  }
-  const __m512 g_power = _mm512_mul_ps(g_G, G);
-  const __m512 g_dx = _mm512_mul_ps(g_power, dx), g_dy = _mm512_mul_ps(g_power, dy);
-  sum.x = add_sum<kFirst>(sum.x, g_dx);
-  sum.y = add_sum<kFirst>(sum.y, g_dy);
-  sum.xx = add_product<kFirst>(sum.xx, g_dx, dx);
-  sum.xy = add_product<kFirst>(sum.xy, g_dx, dy);
-  sum.yy = add_product<kFirst>(sum.yy, g_dy, dy);
-  _mm512_store_ps(T, T_i);
-}
-
-// back_blocks without alpha or depth terms (training's), each block in one
-// register and the entry's sums in registers across its blocks: the lane
-// loop loads and stores all eleven rows for every block and carries its
-// conditions as float 0/1 masks. Blocks in the same order, so the same sums.
+// back_blocks without alpha or depth terms (training's), a register of
+// lanes of every block at a time (the whole block with AVX-512, one 8-lane
+// half with AVX2) so that the entry's sums stay in registers: the lane loop
+// loads and stores all eleven rows for every block and carries its
+// conditions as float 0/1 values. Blocks in the same order, so the same
+// sums.
 template <bool kInstance>
 inline void back_blocks_in_registers(const TileGaussians& tg, size_t k, unsigned reached,
                                      int tile_x0, int tile_y0, const float* g_planes,
                                      float instance_geometry, TileBackState& s,
                                      float (&acc)[kEntryGrads][kLanes]) {
+  using V = RegisterLanes;
   const SplatRecord& gs = tg[k];
   const int first = __builtin_ctz(reached);
   const PixelBlock first_block = PixelBlock::in_tile(tile_x0, tile_y0, first);
   const float op_star_geometry = instance_geometry * gs.instance_opacity;  // as back_block's
   auto plane = [&](int b) { return kInstance ? g_planes + b * kLanes : nullptr; };
-  BlockSums sum{};  // the first block sets every row
-  back_block16<kInstance, true>(gs, int32_t(k), first_block.cx0(), first_block.cy0(), first,
+  for (int h = 0; h < kLanes; h += V::kWidth) {
+    LaneSums sum{};  // the first block sets every row
+    back_lanes<kInstance, true>(gs, int32_t(k), first_block.cx0(), first_block.cy0(), first, h,
                                 plane(first), op_star_geometry, s, sum);
-  for_each_block(reached & (reached - 1), tile_x0, tile_y0, [&](int b, const PixelBlock& block) {
-    back_block16<kInstance, false>(gs, int32_t(k), block.cx0(), block.cy0(), b, plane(b),
+    for_each_block(reached & (reached - 1), tile_x0, tile_y0, [&](int b, const PixelBlock& block) {
+      back_lanes<kInstance, false>(gs, int32_t(k), block.cx0(), block.cy0(), b, h, plane(b),
                                    op_star_geometry, s, sum);
-  });
-  const auto store = [&](int row, __m512 value) { _mm512_store_ps(acc[row], value); };
-  store(kSumX, sum.x), store(kSumY, sum.y), store(kSumXX, sum.xx), store(kSumXY, sum.xy);
-  store(kSumYY, sum.yy), store(kRed, sum.red), store(kGreen, sum.green), store(kBlue, sum.blue);
-  store(kOpacity, sum.opacity);
-  store(kDepth, _mm512_setzero_ps());
-  store(kInstanceOpacity, kInstance ? sum.instance_opacity : _mm512_setzero_ps());
+    });
+    const auto store = [&](int row, V::F value) { V::store(acc[row] + h, value); };
+    store(kSumX, sum.x), store(kSumY, sum.y), store(kSumXX, sum.xx), store(kSumXY, sum.xy);
+    store(kSumYY, sum.yy), store(kRed, sum.red), store(kGreen, sum.green), store(kBlue, sum.blue);
+    store(kOpacity, sum.opacity);
+    store(kDepth, V::zero());
+    store(kInstanceOpacity, kInstance ? sum.instance_opacity : V::zero());
+  }
 }
 #endif
 
@@ -582,14 +467,10 @@ template <bool kColor, bool kInstance, bool kAlphaDepth>
 inline void back_blocks(const TileGaussians& tg, size_t k, unsigned reached, int tile_x0,
                         int tile_y0, const float* g_planes, float instance_geometry,
                         TileBackState& s, float (&acc)[kEntryGrads][kLanes]) {
-#if defined(__AVX512F__)
+#if defined(__AVX2__) && defined(__FMA__)
   if constexpr (kColor && !kAlphaDepth)
     return back_blocks_in_registers<kInstance>(tg, k, reached, tile_x0, tile_y0, g_planes,
                                                instance_geometry, s, acc);
-#elif defined(__AVX2__) && defined(__FMA__)
-  if constexpr (kColor && !kAlphaDepth)
-    return back_blocks_in_halves<kInstance>(tg, k, reached, tile_x0, tile_y0, g_planes,
-                                            instance_geometry, s, acc);
 #endif
   auto plane = [&](int b) { return kInstance ? g_planes + b * kLanes : nullptr; };
   const int first = __builtin_ctz(reached);

@@ -10,7 +10,6 @@
 #include <immintrin.h>
 #endif
 
-#include "splat/render/avx512_ops.h"
 #include "splat/render/fast_exp.h"
 #include "splat/render/gaussian_power.h"
 #include "splat/render/pixel_block.h"
@@ -122,152 +121,81 @@ inline void blend(const TileGaussians& tg, size_t k, float px0, float py0, Block
   }
 }
 
-#if defined(__AVX2__) && defined(__FMA__) && !defined(__AVX512F__)
-// blend_block without the label branch, one 8-lane half of the block at a
-// time with its state in registers: the loop over lanes keeps the state in
-// memory and stores it back after every entry, twice the vectors on AVX2.
-// The same operations as blend's, fused alike, so the same bits. The
-// occupancy planes stay in memory: an entry adds to its label's plane only.
-template <bool kColor, bool kDepth, bool kInstance>
-void blend_block_in_halves(const TileGaussians& tg, int b, const PixelBlock& block, BlockState& s) {
-  const uint32_t* entries = tg.block_list(b);
-  const uint32_t count = tg.block_count[b];
-  const float x0 = block.cx0(), y0 = block.cy0();
-  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.f);
-  for (int h = 0; h < kLanes; h += 8) {
-    const __m256 offset_x = _mm256_load_ps(kLaneOffsets.x + h);
-    const __m256 offset_y = _mm256_load_ps(kLaneOffsets.y + h);
-    __m256 T = _mm256_load_ps(s.T + h);
-    __m256 done = _mm256_cmp_ps(_mm256_load_ps(s.done + h), zero, _CMP_NEQ_UQ);
-    __m256 red = _mm256_load_ps(s.color[0] + h), green = _mm256_load_ps(s.color[1] + h);
-    __m256 blue = _mm256_load_ps(s.color[2] + h), depth = _mm256_load_ps(s.depth + h);
-    __m256i last = _mm256_load_si256(reinterpret_cast<const __m256i*>(s.last + h));
-    __m256i blended = _mm256_load_si256(reinterpret_cast<const __m256i*>(s.blended + h));
-    for (uint32_t e = 0; e < count; ++e) {
-      const size_t k = entries[e];
-      const SplatRecord& g = tg[k];
-      const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(g.mx - x0), offset_x);
-      const __m256 dy = _mm256_sub_ps(_mm256_set1_ps(g.my - y0), offset_y);
-      const __m256 power = gaussian_power8(g.A, g.B, g.C, dx, dy);
-      const __m256 G = fast_exp8(_mm256_min_ps(power, zero));
-      const __m256 alpha =
-          _mm256_min_ps(_mm256_mul_ps(_mm256_set1_ps(g.opacity), G), _mm256_set1_ps(kMaxAlpha));
-      const __m256 valid = _mm256_andnot_ps(
-          done, _mm256_and_ps(_mm256_cmp_ps(power, zero, _CMP_LE_OQ),
-                              _mm256_cmp_ps(alpha, _mm256_set1_ps(kMinAlpha), _CMP_GE_OQ)));
-      const __m256 next_T = _mm256_mul_ps(T, _mm256_sub_ps(one, alpha));
-      const __m256 terminate = _mm256_and_ps(
-          valid, _mm256_cmp_ps(next_T, _mm256_set1_ps(kMinTransmittance), _CMP_LT_OQ));
-      const __m256 contribute = _mm256_andnot_ps(terminate, valid);
-      const __m256 w = _mm256_and_ps(contribute, _mm256_mul_ps(alpha, T));
-      if constexpr (kColor) {
-        red = _mm256_fmadd_ps(w, _mm256_set1_ps(g.r), red);
-        green = _mm256_fmadd_ps(w, _mm256_set1_ps(g.g), green);
-        blue = _mm256_fmadd_ps(w, _mm256_set1_ps(g.b), blue);
-      }
-      if constexpr (kDepth) depth = _mm256_fmadd_ps(w, _mm256_set1_ps(g.depth), depth);
-      if (kInstance && g.plane >= 0) {
-        s.touch(g.plane);
-        float* plane = &s.planes[size_t(g.plane) * kLanes + h];
-        const __m256 alpha_star = _mm256_min_ps(
-            _mm256_mul_ps(_mm256_set1_ps(g.instance_opacity), G), _mm256_set1_ps(kMaxAlpha));
-        const __m256 share = _mm256_mul_ps(_mm256_and_ps(contribute, one), alpha_star);
-        _mm256_storeu_ps(plane, _mm256_fmadd_ps(share, T, _mm256_loadu_ps(plane)));
-      }
-      const __m256i contributes = _mm256_castps_si256(contribute);
-      last = _mm256_blendv_epi8(last, _mm256_set1_epi32(int32_t(k) + 1), contributes);
-      blended = _mm256_sub_epi32(blended, contributes);
-      T = _mm256_blendv_ps(T, next_T, contribute);
-      done = _mm256_or_ps(done, terminate);
-      if ((e & 15) == 15 && _mm256_movemask_ps(done) == 0xff) break;
-    }
-    // What store_block reads; `done` is not read after the block.
-    _mm256_store_ps(s.T + h, T);
-    _mm256_store_ps(s.color[0] + h, red);
-    _mm256_store_ps(s.color[1] + h, green);
-    _mm256_store_ps(s.color[2] + h, blue);
-    _mm256_store_ps(s.depth + h, depth);
-    _mm256_store_si256(reinterpret_cast<__m256i*>(s.last + h), last);
-    _mm256_store_si256(reinterpret_cast<__m256i*>(s.blended + h), blended);
-  }
-}
-#endif
-
-#if defined(__AVX512F__)
-// blend_block without the label branch, the block's 16 lanes in one register
-// and its state in registers for the whole list, the conditions as mask
-// registers: GCC's lane loop stores the state after every entry and carries
-// each condition as a float 0/1 mask, a third more vector instructions an
-// entry. The same operations as blend's where they round, so the same bits.
+#if defined(__AVX2__) && defined(__FMA__)
+// blend_block without the label branch, a register of lanes at a time (the
+// whole block with AVX-512, one 8-lane half with AVX2), its state in
+// registers for the whole list and its conditions as masks: GCC's lane loop
+// stores the state after every entry and carries each condition as a float
+// 0/1 value, a third more vector instructions an entry (twice the vectors
+// on AVX2). The same operations as blend's where they round, fused alike,
+// so the same bits. The occupancy planes stay in memory: an entry adds to
+// its label's plane only.
 template <bool kColor, bool kDepth, bool kInstance>
 void blend_block_in_registers(const TileGaussians& tg, int b, const PixelBlock& block,
                               BlockState& s) {
+  using V = RegisterLanes;
+  using F = V::F;
+  using M = V::M;
   const uint32_t* entries = tg.block_list(b);
   const uint32_t count = tg.block_count[b];
   const float x0 = block.cx0(), y0 = block.cy0();
-  const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.f);
-  const __m512 offset_x = _mm512_load_ps(kLaneOffsets.x);
-  const __m512 offset_y = _mm512_load_ps(kLaneOffsets.y);
-  __m512 T = _mm512_load_ps(s.T);
-  __mmask16 done = _mm512_cmp_ps_mask(_mm512_load_ps(s.done), zero, _CMP_NEQ_UQ);
-  __m512 red = _mm512_load_ps(s.color[0]), green = _mm512_load_ps(s.color[1]);
-  __m512 blue = _mm512_load_ps(s.color[2]), depth = _mm512_load_ps(s.depth);
-  __m512i last = _mm512_load_si512(s.last), blended = _mm512_load_si512(s.blended);
-  for (uint32_t e = 0; e < count; ++e) {
-    const size_t k = entries[e];
-    const SplatRecord& g = tg[k];
-    const __m512 dx = _mm512_sub_ps(_mm512_set1_ps(g.mx - x0), offset_x);
-    const __m512 dy = _mm512_sub_ps(_mm512_set1_ps(g.my - y0), offset_y);
-    const __m512 power = gaussian_power16(g.A, g.B, g.C, dx, dy);
-    const __m512 G = fast_exp16(min16(power, zero));
-    const __m512 alpha =
-        min16(_mm512_mul_ps(_mm512_set1_ps(g.opacity), G), _mm512_set1_ps(kMaxAlpha));
-    const __mmask16 valid =
-        _mm512_kandn(done, _mm512_cmp_ps_mask(power, zero, _CMP_LE_OQ) &
-                               _mm512_cmp_ps_mask(alpha, _mm512_set1_ps(kMinAlpha), _CMP_GE_OQ));
-    const __m512 next_T = _mm512_mul_ps(T, _mm512_sub_ps(one, alpha));
-    const __mmask16 terminate =
-        _mm512_mask_cmp_ps_mask(valid, next_T, _mm512_set1_ps(kMinTransmittance), _CMP_LT_OQ);
-    const __mmask16 contribute = _mm512_kandn(terminate, valid);
-    const __m512 w = _mm512_maskz_mul_ps(contribute, alpha, T);
-    if constexpr (kColor) {
-      red = _mm512_fmadd_ps(w, _mm512_set1_ps(g.r), red);
-      green = _mm512_fmadd_ps(w, _mm512_set1_ps(g.g), green);
-      blue = _mm512_fmadd_ps(w, _mm512_set1_ps(g.b), blue);
+  const F zero = V::zero(), one = V::set1(1.f);
+  for (int h = 0; h < kLanes; h += V::kWidth) {
+    const F offset_x = V::load(kLaneOffsets.x + h), offset_y = V::load(kLaneOffsets.y + h);
+    F T = V::load(s.T + h);
+    M done = V::not_equal(V::load(s.done + h), zero);
+    F red = V::load(s.color[0] + h), green = V::load(s.color[1] + h);
+    F blue = V::load(s.color[2] + h), depth = V::load(s.depth + h);
+    V::I last = V::load(s.last + h), blended = V::load(s.blended + h);
+    for (uint32_t e = 0; e < count; ++e) {
+      const size_t k = entries[e];
+      const SplatRecord& g = tg[k];
+      const F dx = V::sub(V::set1(g.mx - x0), offset_x);
+      const F dy = V::sub(V::set1(g.my - y0), offset_y);
+      const F power = gaussian_power_lanes<V>(g.A, g.B, g.C, dx, dy);
+      const F G = fast_exp_lanes<V>(V::min(power, zero));
+      const F alpha = V::min(V::mul(V::set1(g.opacity), G), V::set1(kMaxAlpha));
+      const M valid = V::and_not(
+          done, V::both(V::less_equal(power, zero), V::greater_equal(alpha, V::set1(kMinAlpha))));
+      const F next_T = V::mul(T, V::sub(one, alpha));
+      const M terminate = V::both(valid, V::less(next_T, V::set1(kMinTransmittance)));
+      const M contribute = V::and_not(terminate, valid);
+      const F w = V::zero_unless(contribute, V::mul(alpha, T));
+      if constexpr (kColor) {
+        red = V::fmadd(w, V::set1(g.r), red);
+        green = V::fmadd(w, V::set1(g.g), green);
+        blue = V::fmadd(w, V::set1(g.b), blue);
+      }
+      if constexpr (kDepth) depth = V::fmadd(w, V::set1(g.depth), depth);
+      if (kInstance && g.plane >= 0) {
+        s.touch(g.plane);
+        float* plane = &s.planes[size_t(g.plane) * kLanes + h];
+        const F alpha_star = V::min(V::mul(V::set1(g.instance_opacity), G), V::set1(kMaxAlpha));
+        V::storeu(plane, V::fmadd(V::zero_unless(contribute, alpha_star), T, V::loadu(plane)));
+      }
+      last = V::select(contribute, V::set1(int32_t(k) + 1), last);
+      blended = V::count_where(contribute, blended);
+      T = V::select(contribute, next_T, T);
+      done = V::either(done, terminate);
+      if ((e & 15) == 15 && V::all(done)) break;
     }
-    if constexpr (kDepth) depth = _mm512_fmadd_ps(w, _mm512_set1_ps(g.depth), depth);
-    if (kInstance && g.plane >= 0) {
-      s.touch(g.plane);
-      float* plane = &s.planes[size_t(g.plane) * kLanes];
-      const __m512 alpha_star =
-          min16(_mm512_mul_ps(_mm512_set1_ps(g.instance_opacity), G), _mm512_set1_ps(kMaxAlpha));
-      const __m512 share = _mm512_maskz_mov_ps(contribute, alpha_star);
-      _mm512_storeu_ps(plane, _mm512_fmadd_ps(share, T, _mm512_loadu_ps(plane)));
-    }
-    last = _mm512_mask_set1_epi32(last, contribute, int32_t(k) + 1);
-    blended = _mm512_mask_sub_epi32(blended, contribute, blended, _mm512_set1_epi32(-1));
-    T = _mm512_mask_mov_ps(T, contribute, next_T);
-    done = _mm512_kor(done, terminate);
-    if ((e & 15) == 15 && done == 0xffff) break;
+    // What store_block reads; `done` is not read after the block.
+    V::store(s.T + h, T);
+    V::store(s.color[0] + h, red);
+    V::store(s.color[1] + h, green);
+    V::store(s.color[2] + h, blue);
+    V::store(s.depth + h, depth);
+    V::store(s.last + h, last);
+    V::store(s.blended + h, blended);
   }
-  // What store_block reads; `done` is not read after the block.
-  _mm512_store_ps(s.T, T);
-  _mm512_store_ps(s.color[0], red);
-  _mm512_store_ps(s.color[1], green);
-  _mm512_store_ps(s.color[2], blue);
-  _mm512_store_ps(s.depth, depth);
-  _mm512_store_si512(s.last, last);
-  _mm512_store_si512(s.blended, blended);
 }
 #endif
 
 template <bool kColor, bool kDepth, bool kInstance, bool kLabels>
 void blend_block(const TileGaussians& tg, int b, const PixelBlock& block, BlockState& s) {
-#if defined(__AVX512F__)
+#if defined(__AVX2__) && defined(__FMA__)
   if constexpr (!kLabels)
     return blend_block_in_registers<kColor, kDepth, kInstance>(tg, b, block, s);
-#elif defined(__AVX2__) && defined(__FMA__)
-  if constexpr (!kLabels) return blend_block_in_halves<kColor, kDepth, kInstance>(tg, b, block, s);
 #endif
   const uint32_t* entries = tg.block_list(b);
   const uint32_t count = tg.block_count[b];

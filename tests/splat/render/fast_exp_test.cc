@@ -22,16 +22,17 @@ TEST(FastExp, MatchesStdExpOnTheRendererRange) {
   EXPECT_LT(fast_exp(-1000.f), 1e-37f);
 }
 
-#if defined(__AVX512F__)
-// The rasterizer's AVX-512 loops take exp through fast_exp16, which applies
-// 2^n by a scale instruction: the same bits as fast_exp on the range they
-// use (x <= 0, clamped at -87).
-TEST(FastExp, SixteenLanesGiveTheScalarBits) {
-  alignas(64) float x[16], got[16];
-  for (double start = -100.0; start <= 0.0; start += 16 * 7.3e-4) {
-    for (int l = 0; l < 16; ++l) x[l] = std::fmin(float(start + l * 7.3e-4), 0.f);
-    _mm512_store_ps(got, fast_exp16(_mm512_load_ps(x)));
-    for (int l = 0; l < 16; ++l)
+#if defined(__AVX2__) && defined(__FMA__)
+// The rasterizer's register loops take exp through fast_exp_lanes, which
+// applies 2^n with V::times_two_to (a scale instruction with AVX-512): the
+// same bits as fast_exp on the range they use (x <= 0, clamped at -87).
+TEST(FastExp, RegisterLanesGiveTheScalarBits) {
+  using V = RegisterLanes;
+  alignas(64) float x[V::kWidth], got[V::kWidth];
+  for (double start = -100.0; start <= 0.0; start += V::kWidth * 7.3e-4) {
+    for (int l = 0; l < V::kWidth; ++l) x[l] = std::fmin(float(start + l * 7.3e-4), 0.f);
+    V::store(got, fast_exp_lanes<V>(V::load(x)));
+    for (int l = 0; l < V::kWidth; ++l)
       ASSERT_EQ(std::bit_cast<uint32_t>(got[l]), std::bit_cast<uint32_t>(fast_exp(x[l]))) << x[l];
   }
 }
