@@ -8,6 +8,7 @@
 #include <span>
 #include <vector>
 
+#include "splat/huge_page_allocator.h"
 #include "splat/image.h"
 
 namespace splat {
@@ -27,10 +28,11 @@ struct ImageLoss {
 // they are tens of MB, and allocating them for every iteration cost as much
 // as the arithmetic (page faults, clearing).
 struct ImageLossBuffers {
-  std::vector<float> x[3], y[3];  // the render and the photo, channel by channel
-  std::vector<float> blurred[5];  // x, y, x^2, y^2, xy of one channel after the horizontal pass
-  std::vector<float> d_stats[3];  // dS/d(mu_x), dS/d(E[x^2]), dS/d(E[xy]) per pixel
-  std::vector<float> d_ssim[3];  // d(SSIM map sum)/dx per channel, added to the gradient at the end
+  // Planes of rows padded to a cache line (image_loss.cc's row_stride).
+  ImageBuffer<float> x[3], y[3];  // the render and the photo, channel by channel
+  ImageBuffer<float> blurred[5];  // x, y, x^2, y^2, xy of one channel after the horizontal pass
+  ImageBuffer<float> d_stats[3];  // dS/d(mu_x), dS/d(E[x^2]), dS/d(E[xy]) per pixel
+  ImageBuffer<float> d_ssim[3];  // d(SSIM map sum)/dx per channel, added to the gradient at the end
   std::vector<double> band_sums;  // per band of rows, summed in order
 };
 
