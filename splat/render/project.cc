@@ -229,7 +229,9 @@ void project_gaussians(const GaussianModel& m, const Camera& cam, const RenderSe
   p.color_clamped.resize(s.color ? 3 * n : 0);
   const ProjectionView v(cam);
   const size_t batches = (n + kBatch - 1) / kBatch;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, batches, 256), [&](const auto& range) {
+  // Tasks of at least 512 Gaussians, so that the few thousand of early
+  // training are split between threads too.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, batches, 32), [&](const auto& range) {
     GeometryBatch g;
     ExtentBatch e;
     for (size_t batch = range.begin(); batch < range.end(); ++batch) {

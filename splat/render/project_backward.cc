@@ -384,7 +384,8 @@ void project_gaussians_backward(const GaussianModel& m, const Camera& cam, const
   g.camera.fill(0.0);
   if (!backward_settings.camera_gradient) {
     const size_t batches = (n + kBatch - 1) / kBatch;
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, batches, 256), [&](const auto& range) {
+    // At least 512 Gaussians a task, as project_gaussians.
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, batches, 32), [&](const auto& range) {
       for (size_t b = range.begin(); b < range.end(); ++b)
         backward_batch(m, v, s, backward_settings.zero_culled_gradients, p, pg, b * kBatch,
                        std::min<size_t>(kBatch, n - b * kBatch), half_w, half_h, g);

@@ -771,7 +771,9 @@ inline void add_entries(const float* entry_grads, uint32_t first, uint32_t last,
 // Gaussian's sums start at zero in its first band (that of its first row).
 void sum_band_entries(const RasterState& st, TileRowBand band, std::span<const uint32_t> members,
                       ProjectedGradients& out) {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, members.size(), 4096), [&](const auto& range) {
+  // Tasks of at least 64 members: early in training a few thousand members
+  // have tens of entries each, and a grain of 4,096 left them to one thread.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, members.size(), 64), [&](const auto& range) {
     for (size_t j = range.begin(); j < range.end(); ++j) {
       const size_t i = members[j];
       const uint32_t first = st.band_entries[j], last = st.band_entries[j + 1];

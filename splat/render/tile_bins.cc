@@ -42,8 +42,12 @@ void bin_gaussians(const ProjectedGaussians& p, TileBins& b) {
   b.tiles_y = p.tiles_y;
   const size_t tiles = size_t(b.tiles_x) * b.tiles_y;
   // Counting sort by tile without atomics: each chunk of Gaussians counts its
-  // entries per tile, and gets its own write position in every tile.
-  const size_t chunks = std::clamp<size_t>(n / 4096, 1, 64);
+  // entries per tile, and gets its own write position in every tile. Early in
+  // training a few thousand large Gaussians have tens of tiles each: chunks
+  // of 256, so that they too are counted and scattered in parallel (with
+  // 4,096 they were one chunk, a few per cent of the step on one thread).
+  // The slots come out the same whatever the chunks.
+  const size_t chunks = std::clamp<size_t>(n / 256, 1, 64);
   auto chunk_range = [&](size_t c) { return std::pair{n * c / chunks, n * (c + 1) / chunks}; };
   auto for_each_tile = [&](size_t i, auto&& f) {
     const int32_t* r = &p.tile_rect[4 * i];
