@@ -253,35 +253,72 @@ void ssim_gradient(const Window& w, ImageLossBuffers& b, int W, int H, int c) {
   });
 }
 
-// The sums of absolute and squared differences and, with grad, the L1's
-// gradient (which starts grad).
-std::pair<double, double> difference_sums(std::span<const float> rendered, const ImageRGB& target,
-                                          float g, std::vector<float>* grad, ImageLossBuffers& b) {
+// Absolute and squared differences of n interleaved values, summed into
+// one partial sum per vector lane (element j into lane j % kLanes, the tail
+// into lane 0), as ssim_row's; and, with kGradient, the L1's gradient g
+// sign(x - t) into dx (torch's sign(0) = 0). The sign is the difference of
+// two comparisons, so the loop has no branch; restrict pointers and no
+// test inside let GCC vectorise it (the loop with a test per element for
+// dx ran a value at a time).
+template <bool kGradient>
+void difference_lanes(const float* __restrict x, const float* __restrict t, float* __restrict dx,
+                      float g, size_t n, double* __restrict abs_sums,
+                      double* __restrict square_sums) {
+  size_t i = 0;
+  for (; i + kLanes <= n; i += kLanes)
+    for (int l = 0; l < kLanes; ++l) {
+      const double e = double(x[i + l]) - t[i + l];
+      abs_sums[l] += std::abs(e);
+      square_sums[l] += e * e;
+      if constexpr (kGradient) {
+        const float d = x[i + l] - t[i + l];
+        dx[i + l] = g * (float(d > 0) - float(d < 0));
+      }
+    }
+  for (; i < n; ++i) {
+    const double e = double(x[i]) - t[i];
+    abs_sums[0] += std::abs(e);
+    square_sums[0] += e * e;
+    if constexpr (kGradient) {
+      const float d = x[i] - t[i];
+      dx[i] = g * (float(d > 0) - float(d < 0));
+    }
+  }
+}
+
+// One row of interleaved RGB into three planes.
+void split_row(const float* __restrict rgb, float* __restrict r, float* __restrict g,
+               float* __restrict b, int W) {
+  for (int x = 0; x < W; ++x) r[x] = rgb[3 * x], g[x] = rgb[3 * x + 1], b[x] = rgb[3 * x + 2];
+}
+
+// Reads the render and the photo once, band by band: the sums of absolute
+// and squared differences, with grad the L1's gradient (which starts grad),
+// and both images split into channels while the band is in the cache.
+std::pair<double, double> read_images(std::span<const float> rendered, const ImageRGB& target,
+                                      float g, std::vector<float>* grad, ImageLossBuffers& b) {
   const int W = target.width, H = target.height;
+  const size_t S = row_stride(W);
   if (grad) grad->resize(rendered.size());
   const float* x = rendered.data();
   const float* t = target.data.data();
   float* dx = grad ? grad->data() : nullptr;
   for_each_band(H, [&](int band, int y0, int y1) {
-    // Partial sums per lane, as in ssim_row; the sign as the
-    // difference of two comparisons keeps the loop free of branches.
     double abs_sums[kLanes] = {}, square_sums[kLanes] = {};
-    const auto element = [&](size_t i, int lane) {
-      const double e = double(x[i]) - t[i];
-      abs_sums[lane] += std::abs(e);
-      square_sums[lane] += e * e;
-      const float d = x[i] - t[i];
-      if (dx) dx[i] = g * (float(d > 0) - float(d < 0));  // torch's sign(0) = 0
-    };
-    const size_t end = size_t(y1) * W * 3;
-    size_t i = size_t(y0) * W * 3;
-    for (; i + kLanes <= end; i += kLanes)
-      for (int l = 0; l < kLanes; ++l) element(i + l, l);
-    for (; i < end; ++i) element(i, 0);
+    const size_t first = size_t(y0) * W * 3, n = size_t(y1 - y0) * W * 3;
+    if (dx)
+      difference_lanes<true>(x + first, t + first, dx + first, g, n, abs_sums, square_sums);
+    else
+      difference_lanes<false>(x + first, t + first, nullptr, g, n, abs_sums, square_sums);
     double abs_sum = 0, square_sum = 0;
     for (int l = 0; l < kLanes; ++l) abs_sum += abs_sums[l], square_sum += square_sums[l];
     b.band_sums[band] = abs_sum;
     b.band_sums[bands_of(H) + band] = square_sum;
+    for (int y = y0; y < y1; ++y) {
+      const size_t o = size_t(y) * S, i = size_t(y) * W * 3;
+      split_row(x + i, &b.x[0][o], &b.x[1][o], &b.x[2][o], W);
+      split_row(t + i, &b.y[0][o], &b.y[1][o], &b.y[2][o], W);
+    }
   });
   double abs_sum = 0, square_sum = 0;
   for (int band = 0; band < bands_of(H); ++band)
@@ -289,18 +326,14 @@ std::pair<double, double> difference_sums(std::span<const float> rendered, const
   return {abs_sum, square_sum};
 }
 
-// The render and the photo split into channels, both read once.
-void split_channels(std::span<const float> rendered, const ImageRGB& target, ImageLossBuffers& b) {
-  const int W = target.width;
-  const size_t S = row_stride(W);
-  for_each_band(target.height, [&](int, int y0, int y1) {
-    for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < W; ++x) {
-        const size_t i = size_t(y) * W + x, p = size_t(y) * S + x;
-        for (int c = 0; c < 3; ++c)
-          b.x[c][p] = rendered[3 * i + c], b.y[c][p] = target.data[3 * i + c];
-      }
-  });
+// rgb += scale * (r, g, b) over one row, the planes interleaved again.
+void add_row(float* __restrict rgb, const float* __restrict r, const float* __restrict g,
+             const float* __restrict b, float scale, int W) {
+  for (int x = 0; x < W; ++x) {
+    rgb[3 * x] += scale * r[x];
+    rgb[3 * x + 1] += scale * g[x];
+    rgb[3 * x + 2] += scale * b[x];
+  }
 }
 
 // grad += scale * d_ssim, the channels interleaved again in one pass.
@@ -308,11 +341,11 @@ void add_ssim_gradient(const ImageLossBuffers& b, int W, int H, float scale,
                        std::vector<float>& grad) {
   const size_t S = row_stride(W);
   for_each_band(H, [&](int, int y0, int y1) {
-    for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < W; ++x) {
-        const size_t i = size_t(y) * W + x, p = size_t(y) * S + x;
-        for (int c = 0; c < 3; ++c) grad[3 * i + c] += scale * b.d_ssim[c][p];
-      }
+    for (int y = y0; y < y1; ++y) {
+      const size_t o = size_t(y) * S;
+      add_row(&grad[size_t(y) * W * 3], &b.d_ssim[0][o], &b.d_ssim[1][o], &b.d_ssim[2][o], scale,
+              W);
+    }
   });
 }
 
@@ -338,10 +371,9 @@ ImageLoss image_loss(std::span<const float> rendered, const ImageRGB& target,
   prepare(b, W, H, grad != nullptr);
   ImageLoss loss;
   const auto [abs_sum, square_sum] =
-      difference_sums(rendered, target, (1 - options.lambda_ssim) / float(n), grad, b);
+      read_images(rendered, target, (1 - options.lambda_ssim) / float(n), grad, b);
   loss.l1 = abs_sum / n;
   loss.mse = square_sum / n;
-  split_channels(rendered, target, b);
   double ssim_sum = 0;
   for (int c = 0; c < 3; ++c) {
     blur_statistics_horizontally(w, b, W, H, c);
