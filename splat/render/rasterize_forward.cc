@@ -40,15 +40,19 @@ struct BlockState {
   std::vector<uint8_t> touched;         // per plane: cleared and written in this block
   std::vector<int32_t> touched_planes;  // which, to reset them cheaply
 
+  // Field by field, each a vector store: one loop over the lanes setting
+  // every field became a scalar store per lane and field, a sixth of the
+  // tile loop's time early in training (a block per 16 pixels).
   void reset(const PixelBlock& block, int width, int height, size_t num_planes) {
-    for (int l = 0; l < kLanes; ++l) {
-      T[l] = 1.f;
-      color[0][l] = color[1][l] = color[2][l] = depth[l] = 0.f;
-      done[l] = block.inside(l, width, height) ? 0.f : 1.f;
-      last[l] = blended[l] = 0;
-      best_instance_alpha[l] = best_weight[l] = 0.f;
-      instance_label[l] = baseline_label[l] = 0;
-    }
+    std::fill_n(T, kLanes, 1.f);
+    for (float* field : {color[0], color[1], color[2], depth, best_instance_alpha, best_weight})
+      std::fill_n(field, kLanes, 0.f);
+    for (int32_t* field : {last, blended, instance_label, baseline_label})
+      std::fill_n(field, kLanes, 0);
+    if (block.x0 + kBlockSize <= width && block.y0 + kBlockSize <= height)
+      std::fill_n(done, kLanes, 0.f);
+    else
+      for (int l = 0; l < kLanes; ++l) done[l] = block.inside(l, width, height) ? 0.f : 1.f;
     planes.resize(num_planes * kLanes);
     touched.resize(num_planes, 0);
     for (int32_t p : touched_planes) touched[size_t(p)] = 0;
