@@ -555,16 +555,40 @@ void load_tile_planes(const TileGaussians& tg, const RasterState& st,
   }
 }
 
-// Copies one plane's pixels of the tile (rows x columns from `from`, whose
-// rows are `stride` values apart and whose pixels `step` apart) into
-// to[block][lane]; lanes off the image keep their value.
-void scatter_tile_rows(const float* from, size_t stride, int step, int rows, int columns,
-                       float (&to)[kBlocks][kLanes]) {
+// Copies one image row of a tile (`columns` pixels) into its blocks' lanes:
+// pixel x of tile row r goes to block (r / 4) * 4 + x / 4, lane (r % 4) * 4
+// + x % 4, so a whole row is four copies of 4 floats (a copy per pixel, with
+// its index arithmetic, was most of loading a tile's state).
+void row_into_blocks(const float* row, int r, int columns, float (&to)[kBlocks][kLanes]) {
   constexpr int kBlocksPerRow = kTileSize / kBlockSize;
-  for (int r = 0; r < rows; ++r)
+  float* lanes = &to[(r / kBlockSize) * kBlocksPerRow][(r % kBlockSize) * kBlockSize];
+  if (columns == kTileSize) {
+    for (int bx = 0; bx < kBlocksPerRow; ++bx)
+      std::copy_n(row + bx * kBlockSize, kBlockSize, lanes + bx * kLanes);
+    return;
+  }
+  for (int x = 0; x < columns; ++x) lanes[(x / kBlockSize) * kLanes + x % kBlockSize] = row[x];
+}
+
+// Copies one plane's pixels of the tile (rows x columns from `from`, whose
+// rows are `stride` values apart) into to[block][lane]; lanes off the image
+// keep their value.
+void scatter_tile_rows(const float* from, size_t stride, int rows, int columns,
+                       float (&to)[kBlocks][kLanes]) {
+  for (int r = 0; r < rows; ++r) row_into_blocks(from + r * stride, r, columns, to);
+}
+
+// The same for interleaved RGB (rows `stride` floats apart), each row split
+// into its channels first.
+void scatter_tile_color_rows(const float* from, size_t stride, int rows, int columns,
+                             float (&to)[3][kBlocks][kLanes]) {
+  for (int r = 0; r < rows; ++r) {
+    alignas(64) float channel[3][kTileSize];
+    const float* rgb = from + r * stride;
     for (int x = 0; x < columns; ++x)
-      to[(r / kBlockSize) * kBlocksPerRow + x / kBlockSize]
-        [(r % kBlockSize) * kBlockSize + x % kBlockSize] = from[r * stride + size_t(x) * step];
+      channel[0][x] = rgb[3 * x], channel[1][x] = rgb[3 * x + 1], channel[2][x] = rgb[3 * x + 2];
+    for (int c = 0; c < 3; ++c) row_into_blocks(channel[c], r, columns, to[c]);
+  }
 }
 
 // The state of tile t (top-left pixel tile_x0, tile_y0): the forward pass's
@@ -592,11 +616,10 @@ void load_tile_state(const RenderSettings& settings, const RasterState& st,
   const int rows = std::min(kTileSize, st.height - tile_y0),
             columns = std::min(kTileSize, W - tile_x0);
   const size_t first = size_t(tile_y0) * W + tile_x0;
-  if (!grads.alpha.empty()) scatter_tile_rows(&grads.alpha[first], W, 1, rows, columns, s.g_alpha);
-  if (!grads.depth.empty()) scatter_tile_rows(&grads.depth[first], W, 1, rows, columns, s.g_depth);
+  if (!grads.alpha.empty()) scatter_tile_rows(&grads.alpha[first], W, rows, columns, s.g_alpha);
+  if (!grads.depth.empty()) scatter_tile_rows(&grads.depth[first], W, rows, columns, s.g_depth);
   if (color)
-    for (int c = 0; c < 3; ++c)
-      scatter_tile_rows(&grads.color[3 * first + c], 3 * size_t(W), 3, rows, columns, s.g_color[c]);
+    scatter_tile_color_rows(&grads.color[3 * first], 3 * size_t(W), rows, columns, s.g_color);
   for (int b = 0; b < kBlocks; ++b)
     for (int l = 0; l < kLanes; ++l) {
       s.behind_color[b][l] = 0.f;
