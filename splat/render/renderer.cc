@@ -29,9 +29,9 @@ struct CpuRenderState : RenderState {
            bytes_of(p.tile_rect) + bytes_of(p.reach) + bytes_of(p.color) +
            bytes_of(p.color_clamped) + bytes_of(p.opacity) + bytes_of(p.instance_opacity) +
            bytes_of(b.tile_start) + bytes_of(b.slot_gaussian) + bytes_of(b.sort_keys) +
-           bytes_of(raster.final_transmittance) + bytes_of(raster.n_contrib) +
-           bytes_of(raster.map_of_label) + bytes_of(raster.labels) + bytes_of(raster.records) +
-           bytes_of(raster.slot_blocks);
+           bytes_of(b.sort_scratch) + bytes_of(raster.final_transmittance) +
+           bytes_of(raster.n_contrib) + bytes_of(raster.map_of_label) + bytes_of(raster.labels) +
+           bytes_of(raster.records) + bytes_of(raster.slot_blocks);
   }
   size_t backward_bytes() const override {
     const ProjectedGradients& g = projected_grads;

@@ -16,7 +16,8 @@ struct TileBins {
   int tiles_x = 0, tiles_y = 0;
   std::vector<uint32_t> tile_start;     // tiles + 1: slots of tile t are [start[t], start[t+1])
   std::vector<uint32_t> slot_gaussian;  // per slot (sorted within its tile): Gaussian index
-  std::vector<uint64_t> sort_keys;      // scratch, one per slot, reused from view to view
+  // Scratch, one per visible Gaussian, reused from view to view.
+  std::vector<uint64_t> sort_keys, sort_scratch;
 
   size_t num_entries() const { return slot_gaussian.size(); }
 };
