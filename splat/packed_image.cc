@@ -61,7 +61,7 @@ PackedImageRGB PackedImageRGB::pack(ImageRGB image) {
   if (all_codes)
     p.codes_ = std::move(codes);
   else
-    p.floats_ = std::move(image.data);
+    p.floats_ = std::move(image);
   return p;
 }
 
@@ -91,13 +91,13 @@ void PackedImageRGB::unpack_into(ImageRGB& out) const {
   // On all cores, floats as codes: the trainer takes a view every iteration,
   // and a copy on one thread left the others waiting (6% of an early
   // iteration's time).
-  const size_t n = codes_.empty() ? floats_.size() : codes_.size();
+  const size_t n = codes_.empty() ? floats_.data.size() : codes_.size();
   out.data.resize(n);
   const std::array<float, 256>& table = code_values();
   float* to = out.data.data();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const auto& r) {
     if (codes_.empty())
-      std::copy_n(floats_.data() + r.begin(), r.size(), to + r.begin());
+      std::copy_n(floats_.data.data() + r.begin(), r.size(), to + r.begin());
     else
       for (size_t i = r.begin(); i < r.end(); ++i) to[i] = table[codes_[i]];
   });

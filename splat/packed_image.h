@@ -24,8 +24,12 @@ class PackedImageRGB {
 
   int width() const { return width_; }
   int height() const { return height_; }
-  bool holds_codes() const { return !codes_.empty() || floats_.empty(); }
-  size_t bytes() const { return codes_.size() + floats_.size() * sizeof(float); }
+  bool holds_codes() const { return !codes_.empty() || floats_.data.empty(); }
+  size_t bytes() const { return codes_.size() + floats_.data.size() * sizeof(float); }
+  // The decoded image itself when it is held as floats, to be read in place
+  // (the trainer's target: a copy of it was a pass over the photo every
+  // iteration); null when it is held as codes.
+  const ImageRGB* floats() const { return holds_codes() ? nullptr : &floats_; }
 
   // Writes the image into `out`, resizing it; a buffer reused across calls
   // is not reallocated.
@@ -35,7 +39,7 @@ class PackedImageRGB {
  private:
   int width_ = 0, height_ = 0;
   std::vector<uint8_t> codes_;  // 3 * W * H, or empty
-  std::vector<float> floats_;   // 3 * W * H when the values are not all codes
+  ImageRGB floats_;             // when the values are not all codes
 };
 
 // Reads an image file as the view cache keeps it: an 8-bit RGB(A) file is

@@ -30,6 +30,10 @@ class ViewCache {
   // The same into `out`: a buffer reused from view to view (the trainer's
   // target image) is not reallocated.
   void get_into(size_t index, ImageRGB& out);
+  // The view as the cache holds it, loaded and inserted on a miss: a caller
+  // reads a view held as floats in place (PackedImageRGB::floats), the
+  // pointer keeping it alive should the cache drop it meanwhile.
+  std::shared_ptr<const PackedImageRGB> packed(size_t index);
   // Decodes the views not yet held, on all cores, in the order given, until
   // the cache is full: a trainer that visits every view calls it once before
   // its first iteration, so no iteration waits on a decode (OpenSplat and
@@ -43,8 +47,6 @@ class ViewCache {
   size_t max_bytes() const { return max_bytes_; }
 
  private:
-  // The packed view, loaded and inserted on a miss.
-  std::shared_ptr<const PackedImageRGB> packed(size_t index);
   void evict_to_fit_locked();
 
   Loader loader_;

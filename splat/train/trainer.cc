@@ -222,13 +222,21 @@ Trainer::Step Trainer::start_step(IterationStats& st) {
   Step step;
   step.view = next_view();
   step.camera = camera_of(step.view);
-  scene_->image_into(step.view, target_);
-  step.target = &target_;
+  // A photo the cache holds as floats (resized or not 8-bit) is read in
+  // place; one held as 8-bit codes is decoded into target_.
+  held_view_ = scene_->packed_image(step.view);
+  if (const ImageRGB* floats = held_view_->floats()) {
+    step.target = floats;
+  } else {
+    held_view_->unpack_into(target_);
+    step.target = &target_;
+  }
   st.downscale = learns_instances() ? 1 : training_downscale(o.resolution_schedule, it);
   if (st.downscale > 1) {
-    const auto [w, h] = downscaled_size(target_.width, target_.height, st.downscale);
+    const ImageRGB& photo = *step.target;
+    const auto [w, h] = downscaled_size(photo.width, photo.height, st.downscale);
     step.camera = step.camera.resized(w, h);
-    downscaled_target_ = resize_area(target_, w, h);
+    downscaled_target_ = resize_area(photo, w, h);
     step.target = &downscaled_target_;
   }
   if (o.half_views.applies(it)) use_half_view(step, st);

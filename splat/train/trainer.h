@@ -257,7 +257,8 @@ class Trainer {
   // Reused from iteration to iteration.
   std::unique_ptr<RenderState> render_state_;
   RenderOutput render_out_;
-  ImageRGB target_;             // the training view's photo, reused
+  std::shared_ptr<const PackedImageRGB> held_view_;  // the training view as the cache holds it
+  ImageRGB target_;             // the training view's photo, decoded from codes, reused
   ImageRGB downscaled_target_;  // the photo at the resolution schedule's size
   ImageRGB half_target_;        // the half of the photo a half view trains on
   IdMap view_ids_;              // the step's view's ID map, unpacked

@@ -28,6 +28,7 @@ TEST(PackedImage, EveryCodeValueRoundTripsAsACode) {
     im.data[3 * k] = im.data[3 * k + 1] = im.data[3 * k + 2] = code_value(uint8_t(k));
   const PackedImageRGB p = PackedImageRGB::pack(im);
   EXPECT_TRUE(p.holds_codes());
+  EXPECT_EQ(p.floats(), nullptr);  // nothing to read in place: unpack it
   EXPECT_EQ(p.bytes(), im.data.size());
   EXPECT_TRUE(same_bits(p.unpack().data, im.data));
 }
@@ -40,6 +41,11 @@ TEST(PackedImage, OtherValuesAreKeptAsFloats) {
   EXPECT_FALSE(p.holds_codes());
   EXPECT_EQ(p.bytes(), im.data.size() * sizeof(float));
   EXPECT_TRUE(same_bits(p.unpack().data, im.data));
+  // Read in place, the same image.
+  ASSERT_NE(p.floats(), nullptr);
+  EXPECT_EQ(p.floats()->width, 4);
+  EXPECT_EQ(p.floats()->height, 3);
+  EXPECT_TRUE(same_bits(p.floats()->data, im.data));
 }
 
 TEST(PackedImage, UnpackReusesTheBuffer) {
