@@ -238,21 +238,26 @@ void store_block(const RenderSettings& settings, const PixelBlock& block, const 
     st.final_transmittance[slot + l] = s.T[l];
     st.n_contrib[slot + l] = uint32_t(s.last[l]);
   }
-  // Row by row over the block's pixels on the image, without a test per lane.
+  // Row by row over the block's pixels on the image, without a test per
+  // lane, and output by output: with the outputs' tests inside one loop
+  // over the pixels GCC stored them a value at a time.
   const int rows = std::min(kBlockSize, H - block.y0), columns = std::min(kBlockSize, W - block.x0);
-  for (int r = 0; r < rows; ++r)
-    for (int i = 0; i < columns; ++i) {
-      const int l = r * kBlockSize + i;
-      const size_t pix = size_t(block.y0 + r) * W + block.x0 + i;
-      if (settings.color)
+  for (int r = 0; r < rows; ++r) {
+    const int l = r * kBlockSize;  // the row's first lane
+    const size_t pix = size_t(block.y0 + r) * W + block.x0;
+    if (settings.color)
+      for (int i = 0; i < columns; ++i)
         for (int c = 0; c < 3; ++c)
-          out.color[3 * pix + c] = s.color[c][l] + s.T[l] * settings.background[c];
-      out.alpha[pix] = 1.f - s.T[l];
-      if (settings.depth) out.depth[pix] = s.depth[l];
-      out.contributors[pix] = uint32_t(s.blended[l]);
-      if (settings.instance_label_map) out.instance_label[pix] = s.instance_label[l];
-      if (settings.baseline_label_map) out.baseline_label[pix] = s.baseline_label[l];
-    }
+          out.color[3 * (pix + i) + c] = s.color[c][l + i] + s.T[l + i] * settings.background[c];
+    for (int i = 0; i < columns; ++i) out.alpha[pix + i] = 1.f - s.T[l + i];
+    if (settings.depth)
+      for (int i = 0; i < columns; ++i) out.depth[pix + i] = s.depth[l + i];
+    for (int i = 0; i < columns; ++i) out.contributors[pix + i] = uint32_t(s.blended[l + i]);
+    if (settings.instance_label_map)
+      for (int i = 0; i < columns; ++i) out.instance_label[pix + i] = s.instance_label[l + i];
+    if (settings.baseline_label_map)
+      for (int i = 0; i < columns; ++i) out.baseline_label[pix + i] = s.baseline_label[l + i];
+  }
 }
 
 // Writes 16 floats (64 bytes) to the output. The occupancy planes are the
