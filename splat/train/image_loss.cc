@@ -261,29 +261,27 @@ void ssim_gradient(const Window& w, ImageLossBuffers& b, int W, int H, int c) {
 // test inside let GCC vectorise it (the loop with a test per element for
 // dx ran a value at a time).
 template <bool kGradient>
+inline void add_difference(const float* __restrict x, const float* __restrict t,
+                           float* __restrict dx, float g, size_t i, double& abs_sum,
+                           double& square_sum) {
+  const double e = double(x[i]) - t[i];
+  abs_sum += std::abs(e);
+  square_sum += e * e;
+  if constexpr (kGradient) {
+    const float d = x[i] - t[i];
+    dx[i] = g * (float(d > 0) - float(d < 0));
+  }
+}
+
+template <bool kGradient>
 void difference_lanes(const float* __restrict x, const float* __restrict t, float* __restrict dx,
                       float g, size_t n, double* __restrict abs_sums,
                       double* __restrict square_sums) {
   size_t i = 0;
   for (; i + kLanes <= n; i += kLanes)
-    for (int l = 0; l < kLanes; ++l) {
-      const double e = double(x[i + l]) - t[i + l];
-      abs_sums[l] += std::abs(e);
-      square_sums[l] += e * e;
-      if constexpr (kGradient) {
-        const float d = x[i + l] - t[i + l];
-        dx[i + l] = g * (float(d > 0) - float(d < 0));
-      }
-    }
-  for (; i < n; ++i) {
-    const double e = double(x[i]) - t[i];
-    abs_sums[0] += std::abs(e);
-    square_sums[0] += e * e;
-    if constexpr (kGradient) {
-      const float d = x[i] - t[i];
-      dx[i] = g * (float(d > 0) - float(d < 0));
-    }
-  }
+    for (int l = 0; l < kLanes; ++l)
+      add_difference<kGradient>(x, t, dx, g, i + l, abs_sums[l], square_sums[l]);
+  for (; i < n; ++i) add_difference<kGradient>(x, t, dx, g, i, abs_sums[0], square_sums[0]);
 }
 
 // One row of interleaved RGB into three planes.
