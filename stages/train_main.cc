@@ -15,7 +15,9 @@ int main(int argc, char** argv) {
   app.add_option("--recipe", recipe,
                  "paper: the reference 3DGS recipe; fast: sparse Adam, a resolution schedule "
                  "(the views at a quarter size at first, full size from half the densification "
-                 "window on) and, from there on, half views (docs/stages.md)")
+                 "window on) and, from there on, half views (docs/stages.md); dash: an "
+                 "experiment, the fast recipe with DashGaussian's schedules (full size where "
+                 "densification ends, the position learning rate held at first)")
       ->capture_default_str()
       // The last one given wins, so that the pipeline's TRAIN_OPTS overrides its
       // RECIPE.
@@ -40,9 +42,10 @@ int main(int argc, char** argv) {
   return stages::run_stage(app, argc, argv, [&] {
     common.apply();
     splat::apply_recipe(
-        stages::parse_choice<splat::TrainRecipe>(
-            "--recipe", recipe,
-            {{"paper", splat::TrainRecipe::kPaper}, {"fast", splat::TrainRecipe::kFast}}),
+        stages::parse_choice<splat::TrainRecipe>("--recipe", recipe,
+                                                 {{"paper", splat::TrainRecipe::kPaper},
+                                                  {"fast", splat::TrainRecipe::kFast},
+                                                  {"dash", splat::TrainRecipe::kDash}}),
         o.train);
     stages::TrainingCli::report(splat::run_training(scene, work, o), work);
   });

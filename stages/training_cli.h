@@ -55,6 +55,12 @@ class TrainingCli {
                    "from this iteration on, each iteration trains on one half of its view, the "
                    "halves alternating by epoch (0: never, the paper's recipe)")
         ->capture_default_str();
+    app.add_option("--position-lr-hold-until", o.train.lr_position_hold_until,
+                   "the position learning rate stays at its initial value until this "
+                   "iteration, then decays to its final one at the schedule's end (0: decays "
+                   "from the start, the paper's recipe; --recipe dash sets half its "
+                   "densification window; give stage two the same value)")
+        ->capture_default_str();
     app.add_option("--cache-mb", cache_mb_, "decoded images kept in memory, MiB")
         ->capture_default_str();
     app.add_option(

@@ -14,7 +14,8 @@
 #       Stage two is op2gs-learn --recipe paper, the paper's object loss.
 #       RECIPE=fast runs the fast recipe instead (op2gs-train --recipe fast,
 #       op2gs-learn --recipe paper --sparse-adam --half-views-from 1) into
-#       DIR/full-fast, beside the paper's.
+#       DIR/full-fast, beside the paper's. RECIPE=dash likewise runs the
+#       dash recipe (an experiment) into DIR/full-dash.
 #       Then renders the test views' masks and scores them (oracle mode of the
 #       LERF-Mask protocol, DIR/full/masks.json).
 #   bench/studies/full_schedule.sh variant BUILD DIR NAME [op2gs-learn options]
@@ -107,8 +108,8 @@ timed() {  # NAME COMMAND...
     tr '\r' '\n' | grep -v '^\[[#-]'
 }
 
-# The full run's training recipe (RECIPE: paper or fast) and its folder.
-# Both keep the paper's object loss in stage two (op2gs-learn --recipe
+# The full run's training recipe (RECIPE: paper, fast or dash) and its folder.
+# All keep the paper's object loss in stage two (op2gs-learn --recipe
 # paper), which the figures of docs/benchmarks.md were measured with; other
 # object losses run as variants from the same stage one.
 recipe="${RECIPE:-paper}"
@@ -116,7 +117,10 @@ learn_recipe=(--recipe paper)
 case "$recipe" in
   paper) ;;
   fast) learn_recipe+=(--sparse-adam --half-views-from 1) ;;
-  *) echo "bench/studies/full_schedule.sh: RECIPE=$recipe: paper or fast" >&2; exit 2 ;;
+  # The position learning rate's hold that op2gs-train --recipe dash sets
+  # for this schedule (half its densification window of 15,000).
+  dash) learn_recipe+=(--sparse-adam --half-views-from 1 --position-lr-hold-until 7500) ;;
+  *) echo "bench/studies/full_schedule.sh: RECIPE=$recipe: paper, fast or dash" >&2; exit 2 ;;
 esac
 full_run_folder() { if [ "$recipe" = paper ]; then echo full; else echo "full-$recipe"; fi; }
 

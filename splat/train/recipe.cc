@@ -6,11 +6,16 @@ namespace splat {
 
 void apply_recipe(TrainRecipe recipe, TrainOptions& options) {
   if (recipe == TrainRecipe::kPaper) return;
+  const bool dash = recipe == TrainRecipe::kDash;
+  const int window = std::min(options.densify_until, options.total_iterations);
+  ResolutionScheduleOptions& schedule = options.resolution_schedule;
   options.sparse_adam = true;
-  options.resolution_schedule.start_downscale = 4;
-  options.resolution_schedule.full_from =
-      std::min(options.densify_until, options.total_iterations) / 2;
-  options.half_views.from_iteration = options.resolution_schedule.full_from;
+  schedule.start_downscale = 4;
+  schedule.full_from = dash ? window : window / 2;
+  options.half_views.from_iteration = schedule.full_from;
+  // The downscale falls log-linearly from 4 to 1 over [0, full_from], so it
+  // is 2 at half of it.
+  if (dash) options.lr_position_hold_until = schedule.full_from / 2;
 }
 
 }  // namespace splat

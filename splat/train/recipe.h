@@ -12,16 +12,24 @@
 //   - half views: from full resolution on, each iteration trains on one
 //     half of its view (half_views.h), so the late phase, where the model
 //     has all its Gaussians, costs about half as much an iteration.
+// The dash recipe (an experiment, docs/benchmarks.md) is the fast one with
+// two of DashGaussian's (CVPR 2025) scheduling rules in place of ours:
+//   - the resolution rises over the whole densification window, not half
+//     of it, so full resolution (and half views) start where it ends;
+//   - the position learning rate stays at its initial value until the
+//     views are at least half their full width and height, then decays to
+//     its final value at the schedule's end: small views cannot place
+//     Gaussians finely, so the schedule's decay is not spent on them.
 
 #include "splat/train/trainer.h"
 
 namespace splat {
 
-enum class TrainRecipe { kPaper, kFast };
+enum class TrainRecipe { kPaper, kFast, kDash };
 
 // Sets what the recipe changes from the paper's. Call it after the schedule's
-// length and the densification window are set: the fast recipe's resolution
-// schedule follows them.
+// length and the densification window are set: the fast and dash recipes'
+// resolution schedules follow them.
 void apply_recipe(TrainRecipe recipe, TrainOptions& options);
 
 }  // namespace splat

@@ -19,10 +19,12 @@ namespace splat {
 namespace fs = std::filesystem;
 
 namespace {
-// The reference's get_expon_lr_func: log-linear from init at iteration 0 to
-// final at the end of the schedule. Every decaying learning rate uses it.
-double log_linear_decay(int iteration, int total_iterations, float init, float final) {
-  const double t = std::clamp(double(iteration) / total_iterations, 0.0, 1.0);
+// The reference's get_expon_lr_func: log-linear from init at iteration
+// `from` (0 in the reference) to final at the end of the schedule. Every
+// decaying learning rate uses it.
+double log_linear_decay(int iteration, int total_iterations, float init, float final,
+                        int from = 0) {
+  const double t = std::clamp(double(iteration - from) / (total_iterations - from), 0.0, 1.0);
   return std::exp((1 - t) * std::log(init) + t * std::log(final));
 }
 }  // namespace
@@ -39,6 +41,8 @@ void TrainOptions::Check() const {
   if (total_iterations < 1) fail("total_iterations must be >= 1");
   if (sh_degree < 0 || sh_degree > 3) fail("sh_degree must be 0..3");
   if (sh_increase_every < 1) fail("sh_increase_every must be >= 1");
+  if (lr_position_hold_until < 0 || lr_position_hold_until >= total_iterations)
+    fail("the position learning rate's hold must end within the schedule");
   exposure.Check();
   poses.Check();
   test_pose_fit.Check();
@@ -176,7 +180,7 @@ void Trainer::read_protection() {
 
 float Trainer::position_learning_rate(int iteration) const {
   return float(log_linear_decay(iteration, options_.total_iterations, options_.lr_position_init,
-                                options_.lr_position_final) *
+                                options_.lr_position_final, options_.lr_position_hold_until) *
                extent_);
 }
 

@@ -68,6 +68,10 @@ struct TrainOptions {
 
   float lr_position_init = 1.6e-4f;  // times the scene extent
   float lr_position_final = 1.6e-6f;
+  // The position learning rate stays at lr_position_init until this
+  // iteration, then decays log-linearly to lr_position_final at the
+  // schedule's end. 0, the reference recipe: it decays from iteration 0.
+  int lr_position_hold_until = 0;
   float lr_sh_dc = 2.5e-3f;
   float lr_sh_rest = 2.5e-3f / 20;
   float lr_opacity = 0.05f;

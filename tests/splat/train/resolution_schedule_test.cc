@@ -58,6 +58,36 @@ TEST(Recipe, PaperChangesNothingAndFastFollowsTheSchedule) {
   short_run.total_iterations = 7000;
   apply_recipe(TrainRecipe::kFast, short_run);
   EXPECT_EQ(short_run.resolution_schedule.full_from, 3500);
+  EXPECT_EQ(paper.lr_position_hold_until, 0);
+  EXPECT_EQ(fast.lr_position_hold_until, 0);
+}
+
+// The dash recipe: full resolution and half views where densification ends,
+// the position learning rate held until the views are half size.
+TEST(Recipe, DashRisesOverTheWholeWindowAndHoldsThePositionRate) {
+  TrainOptions dash;
+  apply_recipe(TrainRecipe::kDash, dash);
+  EXPECT_TRUE(dash.sparse_adam);
+  EXPECT_EQ(dash.resolution_schedule.start_downscale, 4.0);
+  EXPECT_EQ(dash.resolution_schedule.full_from, 15000);
+  EXPECT_EQ(dash.half_views.from_iteration, 15000);
+  EXPECT_EQ(dash.lr_position_hold_until, 7500);
+  EXPECT_NEAR(training_downscale(dash.resolution_schedule, 7500), 2.0, 1e-9);
+
+  TrainOptions short_run;
+  short_run.total_iterations = 7000;
+  apply_recipe(TrainRecipe::kDash, short_run);
+  EXPECT_EQ(short_run.resolution_schedule.full_from, 7000);
+  EXPECT_EQ(short_run.lr_position_hold_until, 3500);
+  EXPECT_NO_THROW(short_run.Check());
+}
+
+TEST(TrainOptions, RejectsAPositionRateHoldOutsideTheSchedule) {
+  TrainOptions o;
+  o.lr_position_hold_until = -1;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
+  o.lr_position_hold_until = o.total_iterations;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
 }
 
 }  // namespace

@@ -117,6 +117,31 @@ TEST(Trainer, AResolutionScheduleEndsAtFullResolutionAndTrains) {
   EXPECT_GT(after, before + 5.0) << "before " << before << " dB, after " << after << " dB";
 }
 
+// The dash recipe's hold: the position learning rate stays at its initial
+// value until the hold ends, then falls log-linearly to its final value at
+// the schedule's end; without a hold it falls from the start.
+TEST(Trainer, PositionLearningRateHoldsThenFallsToItsFinalValue) {
+  TrainOptions o = quick_options();
+  o.total_iterations = 40;
+  const auto rates = [&](int hold) {
+    o.lr_position_hold_until = hold;
+    Trainer t(tiny_scene(), o);
+    t.initialize_from_sfm();
+    std::vector<double> lr;
+    t.train_until(40, [&](const IterationStats& s) { lr.push_back(s.lr_position); });
+    return lr;  // lr[i] is iteration i + 1's
+  };
+  const std::vector<double> held = rates(20), plain = rates(0);
+  const double init = held[0], ratio = double(o.lr_position_final) / o.lr_position_init;
+  EXPECT_EQ(held[19], init);  // iteration 20, the hold's end
+  EXPECT_LT(held[20], init);
+  EXPECT_NEAR(held[29], init * std::sqrt(ratio), 1e-6 * init);  // half of the fall
+  EXPECT_NEAR(held[39], init * ratio, 1e-6 * init);             // the schedule's end
+  EXPECT_LT(plain[0], init);                                    // falls from iteration 1
+  EXPECT_NEAR(plain[19], init * std::sqrt(ratio), 1e-6 * init);
+  EXPECT_NEAR(plain[39], held[39], 1e-6 * init);
+}
+
 // The fast recipe's half views: from their first iteration on every step
 // trains on a half, the model still learns the scene, and a run resumed
 // among them is the uninterrupted run (the half follows from the iteration
