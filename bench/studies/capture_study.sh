@@ -28,7 +28,9 @@
 # fit (op2gs-render --fit-poses: the test views' cameras fitted to their
 # photos), poses (and op2gs-train --refine-poses), poses+tracks,
 # exposure+poses+tracks. The fast recipe: fast (op2gs-train --recipe fast,
-# op2gs-learn --sparse-adam --half-views-from 1). Any variant followed by +protect-<share> (or
+# op2gs-learn --sparse-adam --half-views-from 1); dash (op2gs-train --recipe
+# dash, an experiment, stage two as fast's with the position learning
+# rate's hold). Any variant followed by +protect-<share> (or
 # protect-<share> alone, for plain) also protects the sigma* of Gaussians whose
 # votes agree at least that much (op2gs-learn --protect-agreement).
 # At the end, op2gs-report writes <out>/report/ (report.html, report.md) with
@@ -92,6 +94,12 @@ for condition in "$@"; do
           train_options=(--recipe fast)
           learn_options=(--sparse-adam --half-views-from 1)
           ;;
+        dash)
+          train_options=(--recipe dash)
+          # Stage two goes on with stage one's position learning rate,
+          # held until half the densification window.
+          learn_options=(--sparse-adam --half-views-from 1 --position-lr-hold-until $((densify_until / 2)))
+          ;;
         lambda-*) learn_options=(--lambda-o "${variant#lambda-}") ;;
         m-*) learn_options=(--objects-per-step "${variant#m-}") ;;
         tau-*) render_options=(--tau "${variant#tau-}") ;;
@@ -150,6 +158,7 @@ for condition in "$@"; do
       [[ " ${train_options[*]:-} " == *" --exposure-compensation "* ]] && suffix+="-exposure"
       [[ " ${train_options[*]:-} " == *" --refine-poses "* ]] && suffix+="-poses"
       [[ " ${train_options[*]:-} " == *" --recipe fast "* ]] && suffix+="-fast"
+      [[ " ${train_options[*]:-} " == *" --recipe dash "* ]] && suffix+="-dash"
       one="$dir/stage-one$suffix"
       if [ ! -f "$one/metrics.json" ]; then
         echo "== $name seed $seed: stage one ${train_options[*]:-}"
