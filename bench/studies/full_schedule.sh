@@ -15,7 +15,8 @@
 #       RECIPE=fast runs the fast recipe instead (op2gs-train --recipe fast,
 #       op2gs-learn --recipe paper --sparse-adam --half-views-from 1) into
 #       DIR/full-fast, beside the paper's. RECIPE=dash likewise runs the
-#       dash recipe (an experiment) into DIR/full-dash.
+#       dash recipe (an experiment) into DIR/full-dash, and RECIPE=fast-hold
+#       the fast one with dash's hold of the position learning rate.
 #       Then renders the test views' masks and scores them (oracle mode of the
 #       LERF-Mask protocol, DIR/full/masks.json).
 #   bench/studies/full_schedule.sh variant BUILD DIR NAME [op2gs-learn options]
@@ -108,11 +109,12 @@ timed() {  # NAME COMMAND...
     tr '\r' '\n' | grep -v '^\[[#-]'
 }
 
-# The full run's training recipe (RECIPE: paper, fast or dash) and its folder.
+# The full run's training recipe (RECIPE: paper, fast, dash or fast-hold) and its folder.
 # All keep the paper's object loss in stage two (op2gs-learn --recipe
 # paper), which the figures of docs/benchmarks.md were measured with; other
 # object losses run as variants from the same stage one.
 recipe="${RECIPE:-paper}"
+train_recipe=(--recipe "$recipe")
 learn_recipe=(--recipe paper)
 case "$recipe" in
   paper) ;;
@@ -120,7 +122,13 @@ case "$recipe" in
   # The position learning rate's hold that op2gs-train --recipe dash sets
   # for this schedule (half its densification window of 15,000).
   dash) learn_recipe+=(--sparse-adam --half-views-from 1 --position-lr-hold-until 7500) ;;
-  *) echo "bench/studies/full_schedule.sh: RECIPE=$recipe: paper, fast or dash" >&2; exit 2 ;;
+  # The fast recipe with dash's hold rule (until the views are half size:
+  # 3,750 on the fast recipe's schedule), to tell the hold's effect apart.
+  fast-hold)
+    train_recipe=(--recipe fast --position-lr-hold-until 3750)
+    learn_recipe+=(--sparse-adam --half-views-from 1 --position-lr-hold-until 3750)
+    ;;
+  *) echo "bench/studies/full_schedule.sh: RECIPE=$recipe: paper, fast, dash or fast-hold" >&2; exit 2 ;;
 esac
 full_run_folder() { if [ "$recipe" = paper ]; then echo full; else echo "full-$recipe"; fi; }
 
@@ -225,7 +233,7 @@ case "$mode" in
       [ -f "$full/checkpoints/latest.ckpt" ] && resume=(--resume)
       timed "stage one" "$bin/op2gs-train" "$dir/scene" "$full" "${resume[@]}" \
         --keep-checkpoint-at "${stage_one_points[@]}" 20000 --iterations 20000 \
-        --recipe "$recipe"
+        "${train_recipe[@]}"
     fi
     [ -f "$full/vote/point_cloud.ply" ] || timed "voting" "$bin/op2gs-vote" "$dir/scene" "$full"
     if [ ! -f "$full/learn/metrics.json" ]; then
