@@ -218,12 +218,14 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
       m["object_loss"]["q_near_model_outline"] = pixel.outline_q;
     if (!o.train.object_loss.reshapes_geometry) m["object_loss"]["reshapes_geometry"] = false;
   }
-  // What of the fast recipe made the model (none of it in the paper's).
+  // What of the fast or dash recipe made the model (none of it in the paper's).
   if (o.train.sparse_adam) m["sparse_adam"] = true;
   if (const ResolutionScheduleOptions& r = o.train.resolution_schedule; r.enabled())
     m["resolution_schedule"] = {{"start_downscale", r.start_downscale}, {"full_from", r.full_from}};
   if (o.train.half_views.from_iteration > 0)
     m["half_views_from"] = o.train.half_views.from_iteration;
+  if (o.train.lr_position_hold_until > 0)
+    m["position_lr_hold_until"] = o.train.lr_position_hold_until;
   write_text_atomically(out.metrics(), m.dump(2) + "\n");
   plot_training_curve(out.log(), out.curve());
 

@@ -7,6 +7,8 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "eval/report/report.h"
 #include "eval/run/eval_run.h"
@@ -99,6 +101,25 @@ TEST(StageTwo, LearnsSigmaStarWithTheObjectLossAndResumesExactly) {
   resume.resume = true;
   run_training(scene(), b / "learn", resume);
   EXPECT_EQ(read_gaussian_ply(b / "learn/point_cloud/iteration_400/point_cloud.ply"), m);
+}
+
+// A position learning rate hold that reaches past stage one's end holds in
+// stage two too, and metrics.json records it.
+TEST(StageTwo, KeepsAPositionRateHoldAndRecordsIt) {
+  TempDir a;
+  TrainRunOptions o = learn_options(320);
+  o.train.lr_position_hold_until = 500;
+  run_training(scene(), a / "learn", o);
+  std::ifstream log(a / "learn/train_log.jsonl");
+  std::string line;
+  std::vector<double> rates;
+  while (std::getline(log, line))
+    if (const auto j = nlohmann::json::parse(line); j.contains("lr_position"))
+      rates.push_back(j["lr_position"].get<double>());
+  ASSERT_EQ(rates.size(), 20u);
+  EXPECT_EQ(rates.front(), rates.back());
+  const auto metrics = nlohmann::json::parse(std::ifstream(a / "learn/metrics.json"));
+  EXPECT_EQ(metrics["position_lr_hold_until"], 500);
 }
 
 // Stage two continues stage one's random stream; a seed starts another (the
