@@ -55,8 +55,6 @@ class Scene {
 
   // The decoded image of view i, exactly camera.width x camera.height.
   std::shared_ptr<const ImageRGB> image(size_t i) { return cache_->get(i); }
-  // The same into a buffer reused from view to view.
-  void image_into(size_t i, ImageRGB& out) { cache_->get_into(i, out); }
   std::shared_ptr<const PackedImageRGB> packed_image(size_t i) { return cache_->packed(i); }
   // Decodes these views now, on all cores, as far as the cache holds them
   // (ViewCache::preload); returns how many are held.

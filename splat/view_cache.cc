@@ -13,7 +13,6 @@ std::shared_ptr<const ImageRGB> ViewCache::get(size_t index) {
   return std::make_shared<const ImageRGB>(packed(index)->unpack());
 }
 
-void ViewCache::get_into(size_t index, ImageRGB& out) { packed(index)->unpack_into(out); }
 
 size_t ViewCache::preload(const std::vector<size_t>& indices) {
   // One view a task: a decode is long, and the views' sizes may differ.

@@ -27,9 +27,6 @@ class ViewCache {
 
   // The image of view `index`, loaded on a miss, as a new image of its own.
   std::shared_ptr<const ImageRGB> get(size_t index);
-  // The same into `out`: a buffer reused from view to view (the trainer's
-  // target image) is not reallocated.
-  void get_into(size_t index, ImageRGB& out);
   // The view as the cache holds it, loaded and inserted on a miss: a caller
   // reads a view held as floats in place (PackedImageRGB::floats), the
   // pointer keeping it alive should the cache drop it meanwhile.

@@ -29,7 +29,7 @@
 # photos), poses (and op2gs-train --refine-poses), poses+tracks,
 # exposure+poses+tracks. The fast recipe: fast (op2gs-train --recipe fast,
 # op2gs-learn --sparse-adam --half-views-from 1); dash (op2gs-train --recipe
-# dash, an experiment, stage two as fast's with the position learning
+# dash, an experiment, stage two as fast's, with stage one's position learning
 # rate's hold). Any variant followed by +protect-<share> (or
 # protect-<share> alone, for plain) also protects the sigma* of Gaussians whose
 # votes agree at least that much (op2gs-learn --protect-agreement).
@@ -96,9 +96,7 @@ for condition in "$@"; do
           ;;
         dash)
           train_options=(--recipe dash)
-          # Stage two goes on with stage one's position learning rate,
-          # held until half the densification window.
-          learn_options=(--sparse-adam --half-views-from 1 --position-lr-hold-until $((densify_until / 2)))
+          learn_options=(--sparse-adam --half-views-from 1)
           ;;
         lambda-*) learn_options=(--lambda-o "${variant#lambda-}") ;;
         m-*) learn_options=(--objects-per-step "${variant#m-}") ;;
@@ -175,8 +173,11 @@ for condition in "$@"; do
       else
         cp -r "$one" "$work"
         quiet "$bin/op2gs-vote" "$dir/scene" "$work" "${vote_options[@]}"
+        # Stage two goes on with the position learning rate's hold stage one
+        # ran with (op2gs-train --recipe dash sets one; 0 otherwise).
+        hold="$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1])).get("position_lr_hold_until", 0))' "$one/metrics.json")"
         quiet "$bin/op2gs-learn" "$dir/scene" "$work" --iterations "$total" --schedule "$total" \
-          "${learn_options[@]}"
+          "${learn_options[@]}" --position-lr-hold-until "$hold"
       fi
       quiet "$bin/op2gs-render" "$dir/scene" "$work" "${render_options[@]}"
       quiet "$bin/op2gs-eval" "$dir/scene" --pred dual-opacity="$work/render/masks" \

@@ -119,18 +119,23 @@ learn_recipe=(--recipe paper)
 case "$recipe" in
   paper) ;;
   fast) learn_recipe+=(--sparse-adam --half-views-from 1) ;;
-  # The position learning rate's hold that op2gs-train --recipe dash sets
-  # for this schedule (half its densification window of 15,000).
-  dash) learn_recipe+=(--sparse-adam --half-views-from 1 --position-lr-hold-until 7500) ;;
+  dash) learn_recipe+=(--sparse-adam --half-views-from 1) ;;
   # The fast recipe with dash's hold rule (until the views are half size:
   # 3,750 on the fast recipe's schedule), to tell the hold's effect apart.
   fast-hold)
     train_recipe=(--recipe fast --position-lr-hold-until 3750)
-    learn_recipe+=(--sparse-adam --half-views-from 1 --position-lr-hold-until 3750)
+    learn_recipe+=(--sparse-adam --half-views-from 1)
     ;;
   *) echo "bench/studies/full_schedule.sh: RECIPE=$recipe: paper, fast, dash or fast-hold" >&2; exit 2 ;;
 esac
 full_run_folder() { if [ "$recipe" = paper ]; then echo full; else echo "full-$recipe"; fi; }
+
+# The position learning rate's hold stage one ran with (its metrics.json; 0
+# when it had none), for stage two to go on with.
+stage_one_hold() {  # WORK
+  python3 -c 'import json, sys; print(json.load(open(sys.argv[1])).get("position_lr_hold_until", 0))' \
+    "$1/metrics.json"
+}
 
 # Seconds per iteration over a run's log after iteration FROM + 1 (whose
 # time carries the loading, or the warm-up).
@@ -240,7 +245,8 @@ case "$mode" in
       resume=()
       [ -f "$full/learn/checkpoints/latest.ckpt" ] && resume=(--resume)
       timed "stage two" "$bin/op2gs-learn" "$dir/scene" "$full" "${resume[@]}" \
-        --keep-checkpoint-at 25000 --iterations 30000 "${learn_recipe[@]}"
+        --keep-checkpoint-at 25000 --iterations 30000 "${learn_recipe[@]}" \
+        --position-lr-hold-until "$(stage_one_hold "$full")"
     fi
     [ -f "$full/masks.json" ] || score_masks "$build" "$dir" "$full" > "$full/masks.txt"
     python3 "$here/full_schedule_summary.py" "$full" | tee "$full/summary.txt"

@@ -72,10 +72,10 @@ TEST(ViewCache, HoldsFourTimesAsManyEightBitViews) {
   EXPECT_EQ(cache.loads(), 12u);
 }
 
-TEST(ViewCache, GetIntoWritesTheView) {
+TEST(ViewCache, PackedViewUnpacksIntoABuffer) {
   ViewCache cache(image_of, 3 * 1200);
   ImageRGB out;
-  cache.get_into(7, out);
+  cache.packed(7)->unpack_into(out);
   EXPECT_EQ(out.width, 10);
   EXPECT_EQ(out.data[0], 7.f);
   EXPECT_EQ(out.data[1], 0.3f);
