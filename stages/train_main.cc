@@ -17,7 +17,8 @@ int main(int argc, char** argv) {
                  "(the views at a quarter size at first, full size from half the densification "
                  "window on) and, from there on, half views (docs/stages.md); dash: an "
                  "experiment, the fast recipe with DashGaussian's schedules (full size where "
-                 "densification ends, the position learning rate held at first)")
+                 "densification ends, the position learning rate held at first); "
+                 "--half-views-from and --position-lr-hold-until, if given, keep their values")
       ->capture_default_str()
       // The last one given wins, so that the pipeline's TRAIN_OPTS overrides its
       // RECIPE.
@@ -41,12 +42,17 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   return stages::run_stage(app, argc, argv, [&] {
     common.apply();
+    // What the command line gives beside --recipe wins over the recipe.
+    splat::GivenTrainOptions given;
+    if (app.count("--half-views-from")) given.half_views_from = o.train.half_views.from_iteration;
+    if (app.count("--position-lr-hold-until"))
+      given.lr_position_hold_until = o.train.lr_position_hold_until;
     splat::apply_recipe(
         stages::parse_choice<splat::TrainRecipe>("--recipe", recipe,
                                                  {{"paper", splat::TrainRecipe::kPaper},
                                                   {"fast", splat::TrainRecipe::kFast},
                                                   {"dash", splat::TrainRecipe::kDash}}),
-        o.train);
+        o.train, given);
     stages::TrainingCli::report(splat::run_training(scene, work, o), work);
   });
 }

@@ -3,8 +3,9 @@
 #include <algorithm>
 
 namespace splat {
+namespace {
 
-void apply_recipe(TrainRecipe recipe, TrainOptions& options) {
+void set_recipe(TrainRecipe recipe, TrainOptions& options) {
   if (recipe == TrainRecipe::kPaper) return;
   const bool dash = recipe == TrainRecipe::kDash;
   const int window = std::min(options.densify_until, options.total_iterations);
@@ -16,6 +17,14 @@ void apply_recipe(TrainRecipe recipe, TrainOptions& options) {
   // The downscale falls log-linearly from 4 to 1 over [0, full_from], so it
   // is 2 at half of it.
   if (dash) options.lr_position_hold_until = schedule.full_from / 2;
+}
+
+}  // namespace
+
+void apply_recipe(TrainRecipe recipe, TrainOptions& options, const GivenTrainOptions& given) {
+  set_recipe(recipe, options);
+  if (given.half_views_from) options.half_views.from_iteration = *given.half_views_from;
+  if (given.lr_position_hold_until) options.lr_position_hold_until = *given.lr_position_hold_until;
 }
 
 }  // namespace splat

@@ -21,15 +21,25 @@
 //     its final value at the schedule's end: small views cannot place
 //     Gaussians finely, so the schedule's decay is not spent on them.
 
+#include <optional>
+
 #include "splat/train/trainer.h"
 
 namespace splat {
 
 enum class TrainRecipe { kPaper, kFast, kDash };
 
-// Sets what the recipe changes from the paper's. Call it after the schedule's
-// length and the densification window are set: the fast and dash recipes'
-// resolution schedules follow them.
-void apply_recipe(TrainRecipe recipe, TrainOptions& options);
+// The options of a recipe that a user set themselves (op2gs-train's
+// --half-views-from and --position-lr-hold-until): a recipe sets the
+// others, and these keep the user's values.
+struct GivenTrainOptions {
+  std::optional<int> half_views_from;
+  std::optional<int> lr_position_hold_until;
+};
+
+// Sets what the recipe changes from the paper's, but for the options in
+// `given`. Call it after the schedule's length and the densification window
+// are set: the fast and dash recipes' resolution schedules follow them.
+void apply_recipe(TrainRecipe recipe, TrainOptions& options, const GivenTrainOptions& given = {});
 
 }  // namespace splat

@@ -44,6 +44,15 @@ grep -q "| n/a | n/a |" "$tmp/check/report.md" || fail "the report's query colum
 grep -q "^| demo |" "$tmp/check2/report.md" && grep -q "^| again |" "$tmp/check2/report.md" ||
   fail "the two-scene report lacks a scene's row"
 
+echo "-- options given beside op2gs-train's --recipe keep their values"
+"$bin/op2gs-train" "$w/sfm/scene" "$tmp/given" --recipe fast --half-views-from 0 \
+  --position-lr-hold-until 7 --iterations 2 --no-final-test > "$tmp/given.log" 2>&1 ||
+  { tail -20 "$tmp/given.log"; fail "op2gs-train --recipe fast with options failed"; }
+m="$tmp/given/metrics.json"
+grep -q '"sparse_adam": true' "$m" || fail "--recipe fast did not set sparse Adam ($m)"
+! grep -q '"half_views_from"' "$m" || fail "--half-views-from 0 lost to --recipe fast ($m)"
+grep -q '"position_lr_hold_until": 7' "$m" || fail "--position-lr-hold-until lost to --recipe fast ($m)"
+
 echo "-- a second make does nothing"
 mk "${tiny[@]}" -q || fail "make -q says something is stale"
 mk "${tiny[@]}" | grep "Nothing to be done" > /dev/null || fail "a second make did work"

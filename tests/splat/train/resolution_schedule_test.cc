@@ -82,6 +82,27 @@ TEST(Recipe, DashRisesOverTheWholeWindowAndHoldsThePositionRate) {
   EXPECT_NO_THROW(short_run.Check());
 }
 
+// What a user gives beside a recipe keeps its value, 0 (off) included; the
+// recipe sets the rest.
+TEST(Recipe, KeepsTheOptionsAUserGave) {
+  TrainOptions fast;
+  apply_recipe(TrainRecipe::kFast, fast, {.half_views_from = 0, .lr_position_hold_until = 3750});
+  EXPECT_FALSE(fast.half_views.applies(30000));
+  EXPECT_EQ(fast.lr_position_hold_until, 3750);
+  EXPECT_TRUE(fast.sparse_adam);
+  EXPECT_EQ(fast.resolution_schedule.full_from, 7500);
+
+  TrainOptions dash;
+  apply_recipe(TrainRecipe::kDash, dash, {.lr_position_hold_until = 0});
+  EXPECT_EQ(dash.lr_position_hold_until, 0);
+  EXPECT_EQ(dash.half_views.from_iteration, 15000);
+
+  TrainOptions paper;
+  apply_recipe(TrainRecipe::kPaper, paper, {.half_views_from = 1000});
+  EXPECT_EQ(paper.half_views.from_iteration, 1000);
+  EXPECT_FALSE(paper.sparse_adam);
+}
+
 TEST(TrainOptions, RejectsAPositionRateHoldOutsideTheSchedule) {
   TrainOptions o;
   o.lr_position_hold_until = -1;
