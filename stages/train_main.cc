@@ -18,7 +18,8 @@ int main(int argc, char** argv) {
                  "window on) and, from there on, half views (docs/stages.md); dash: an "
                  "experiment, the fast recipe with DashGaussian's schedules (full size where "
                  "densification ends, the position learning rate held at first); "
-                 "--half-views-from and --position-lr-hold-until, if given, keep their values")
+                 "--sparse-adam (--no-sparse-adam), --half-views-from and "
+                 "--position-lr-hold-until, if given, keep their values")
       ->capture_default_str()
       // The last one given wins, so that the pipeline's TRAIN_OPTS overrides its
       // RECIPE.
@@ -44,6 +45,8 @@ int main(int argc, char** argv) {
     common.apply();
     // What the command line gives beside --recipe wins over the recipe.
     splat::GivenTrainOptions given;
+    if (app.count("--sparse-adam") || app.count("--no-sparse-adam"))
+      given.sparse_adam = o.train.sparse_adam;
     if (app.count("--half-views-from")) given.half_views_from = o.train.half_views.from_iteration;
     if (app.count("--position-lr-hold-until"))
       given.lr_position_hold_until = o.train.lr_position_hold_until;

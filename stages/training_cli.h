@@ -48,7 +48,7 @@ class TrainingCli {
                    "before scoring a test view, fit its camera pose to its photo with this many "
                    "steps, the model held fixed (0: off)")
         ->capture_default_str();
-    app.add_flag("--sparse-adam", o.train.sparse_adam,
+    app.add_flag("--sparse-adam,!--no-sparse-adam", o.train.sparse_adam,
                  "Adam steps only the Gaussians in view (theirs out of view keep values and "
                  "moments, as gsplat's selective Adam); off in the paper's recipe");
     app.add_option("--half-views-from", o.train.half_views.from_iteration,

@@ -23,6 +23,7 @@ void set_recipe(TrainRecipe recipe, TrainOptions& options) {
 
 void apply_recipe(TrainRecipe recipe, TrainOptions& options, const GivenTrainOptions& given) {
   set_recipe(recipe, options);
+  if (given.sparse_adam) options.sparse_adam = *given.sparse_adam;
   if (given.half_views_from) options.half_views.from_iteration = *given.half_views_from;
   if (given.lr_position_hold_until) options.lr_position_hold_until = *given.lr_position_hold_until;
 }

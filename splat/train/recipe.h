@@ -30,9 +30,11 @@ namespace splat {
 enum class TrainRecipe { kPaper, kFast, kDash };
 
 // The options of a recipe that a user set themselves (op2gs-train's
-// --half-views-from and --position-lr-hold-until): a recipe sets the
-// others, and these keep the user's values.
+// --sparse-adam or --no-sparse-adam, --half-views-from and
+// --position-lr-hold-until): a recipe sets the others, and these keep the
+// user's values.
 struct GivenTrainOptions {
+  std::optional<bool> sparse_adam;
   std::optional<int> half_views_from;
   std::optional<int> lr_position_hold_until;
 };

@@ -93,7 +93,8 @@ TEST(Recipe, KeepsTheOptionsAUserGave) {
   EXPECT_EQ(fast.resolution_schedule.full_from, 7500);
 
   TrainOptions dash;
-  apply_recipe(TrainRecipe::kDash, dash, {.lr_position_hold_until = 0});
+  apply_recipe(TrainRecipe::kDash, dash, {.sparse_adam = false, .lr_position_hold_until = 0});
+  EXPECT_FALSE(dash.sparse_adam);
   EXPECT_EQ(dash.lr_position_hold_until, 0);
   EXPECT_EQ(dash.half_views.from_iteration, 15000);
 
