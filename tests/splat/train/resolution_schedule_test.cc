@@ -85,21 +85,29 @@ TEST(Recipe, DashRisesOverTheWholeWindowAndHoldsThePositionRate) {
 // What a user gives beside a recipe keeps its value, 0 (off) included; the
 // recipe sets the rest.
 TEST(Recipe, KeepsTheOptionsAUserGave) {
+  GivenTrainOptions given;
+  given.half_views_from = 0;
+  given.lr_position_hold_until = 3750;
   TrainOptions fast;
-  apply_recipe(TrainRecipe::kFast, fast, {.half_views_from = 0, .lr_position_hold_until = 3750});
+  apply_recipe(TrainRecipe::kFast, fast, given);
   EXPECT_FALSE(fast.half_views.applies(30000));
   EXPECT_EQ(fast.lr_position_hold_until, 3750);
   EXPECT_TRUE(fast.sparse_adam);
   EXPECT_EQ(fast.resolution_schedule.full_from, 7500);
 
+  given = {};
+  given.sparse_adam = false;
+  given.lr_position_hold_until = 0;
   TrainOptions dash;
-  apply_recipe(TrainRecipe::kDash, dash, {.sparse_adam = false, .lr_position_hold_until = 0});
+  apply_recipe(TrainRecipe::kDash, dash, given);
   EXPECT_FALSE(dash.sparse_adam);
   EXPECT_EQ(dash.lr_position_hold_until, 0);
   EXPECT_EQ(dash.half_views.from_iteration, 15000);
 
+  given = {};
+  given.half_views_from = 1000;
   TrainOptions paper;
-  apply_recipe(TrainRecipe::kPaper, paper, {.half_views_from = 1000});
+  apply_recipe(TrainRecipe::kPaper, paper, given);
   EXPECT_EQ(paper.half_views.from_iteration, 1000);
   EXPECT_FALSE(paper.sparse_adam);
 }
