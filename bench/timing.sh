@@ -1,7 +1,8 @@
 # shellcheck shell=bash disable=SC2154
 # Shared by the bench scripts that time op2gs's training steps
-# (opensplat_ab.sh, thread_scaling.sh, stage_two_cost.sh): sourced, not
-# run. The sourcing script sets `logs`, the folder its steps' logs go to.
+# (opensplat_ab.sh, thread_scaling.sh, stage_two_cost.sh) and run its
+# stages (studies/full_schedule.sh, studies/capture_study.sh): sourced, not
+# run. A script that calls step sets `logs`, the folder its steps' logs go to.
 
 # Stops the script with a one-line message.
 fail() {
@@ -32,6 +33,13 @@ resume_in_fresh_folder() {  # LABEL CHECKPOINT WORK COMMAND...
   mkdir -p "$work/checkpoints"
   ln -s "$checkpoint" "$work/checkpoints/latest.ckpt"
   step "$label" "$@" "$work" --resume
+}
+
+# The position learning rate's hold a stage-one run trained with (its
+# metrics.json; 0 when it had none), for stage two to go on with.
+stage_one_hold() {  # WORK
+  python3 -c 'import json, sys; print(json.load(open(sys.argv[1])).get("position_lr_hold_until", 0))' \
+    "$1/metrics.json"
 }
 
 # The median of the numbers on stdin, one a line; fails on none.

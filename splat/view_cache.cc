@@ -13,7 +13,6 @@ std::shared_ptr<const ImageRGB> ViewCache::get(size_t index) {
   return std::make_shared<const ImageRGB>(packed(index)->unpack());
 }
 
-
 size_t ViewCache::preload(const std::vector<size_t>& indices) {
   // One view a task: a decode is long, and the views' sizes may differ.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, indices.size(), 1), [&](const auto& range) {

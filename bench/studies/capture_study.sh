@@ -41,6 +41,8 @@
 # every condition, e.g. "--width 640 --height 480 --views 60"), FIT_STEPS
 # (steps of each test view's pose fit, default 100).
 set -euo pipefail
+# shellcheck source=bench/timing.sh
+source "$(dirname "$0")/../timing.sh"  # stage_one_hold
 build="$(cd "$1" && pwd)"
 out="$2"
 seeds="$3"
@@ -175,9 +177,8 @@ for condition in "$@"; do
         quiet "$bin/op2gs-vote" "$dir/scene" "$work" "${vote_options[@]}"
         # Stage two goes on with the position learning rate's hold stage one
         # ran with (op2gs-train --recipe dash sets one; 0 otherwise).
-        hold="$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1])).get("position_lr_hold_until", 0))' "$one/metrics.json")"
         quiet "$bin/op2gs-learn" "$dir/scene" "$work" --iterations "$total" --schedule "$total" \
-          "${learn_options[@]}" --position-lr-hold-until "$hold"
+          "${learn_options[@]}" --position-lr-hold-until "$(stage_one_hold "$one")"
       fi
       quiet "$bin/op2gs-render" "$dir/scene" "$work" "${render_options[@]}"
       quiet "$bin/op2gs-eval" "$dir/scene" --pred dual-opacity="$work/render/masks" \

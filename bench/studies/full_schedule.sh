@@ -56,6 +56,8 @@ set -euo pipefail
 mode="${1:?usage: bench/studies/full_schedule.sh full|variant|summary|sampled|paired|options|threads|profile ...}"
 shift
 here="$(cd "$(dirname "$0")" && pwd)"
+# shellcheck source=bench/timing.sh
+source "$here/../timing.sh"  # stage_one_hold
 sample="${SAMPLE:-300}"
 warmup="${WARMUP:-0}"
 stage_one_points=(2000 5000 10000 15000)
@@ -129,13 +131,6 @@ case "$recipe" in
   *) echo "bench/studies/full_schedule.sh: RECIPE=$recipe: paper, fast, dash or fast-hold" >&2; exit 2 ;;
 esac
 full_run_folder() { if [ "$recipe" = paper ]; then echo full; else echo "full-$recipe"; fi; }
-
-# The position learning rate's hold stage one ran with (its metrics.json; 0
-# when it had none), for stage two to go on with.
-stage_one_hold() {  # WORK
-  python3 -c 'import json, sys; print(json.load(open(sys.argv[1])).get("position_lr_hold_until", 0))' \
-    "$1/metrics.json"
-}
 
 # Seconds per iteration over a run's log after iteration FROM + 1 (whose
 # time carries the loading, or the warm-up).
