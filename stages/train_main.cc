@@ -41,6 +41,10 @@ int main(int argc, char** argv) {
                  "reset (the spec's rule is 20); 0, the default, never does, as the reference "
                  "implementation in effect does")
       ->capture_default_str();
+  app.add_option("--max-gaussians", o.train.densify.max_gaussians,
+                 "a budget: densification adds no Gaussian beyond this many, the candidates "
+                 "with the largest gradients first; 0, the default, has none (the paper's rule)")
+      ->capture_default_str();
   return stages::run_stage(app, argc, argv, [&] {
     common.apply();
     // What the command line gives beside --recipe wins over the recipe.

@@ -80,6 +80,34 @@ size_t prune(GaussianModel& model, GaussianAdam& adam, DensificationStats& stats
   return removed;
 }
 
+std::vector<uint8_t> densification_candidates(const std::vector<float>& grad,
+                                              const std::vector<uint8_t>& large, size_t room,
+                                              const DensifyOptions& o, size_t* held_back) {
+  std::vector<uint8_t> grows(grad.size(), 0);
+  std::vector<size_t> candidates;
+  for (size_t i = 0; i < grad.size(); ++i)
+    if (grad[i] >= o.grad_threshold) candidates.push_back(i);
+  if (held_back) *held_back = 0;
+  if (o.max_gaussians == 0) {
+    for (size_t i : candidates) grows[i] = 1;
+    return grows;
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [&](size_t a, size_t b) { return grad[a] > grad[b]; });
+  size_t added = 0;
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    const size_t i = candidates[k];
+    const size_t adds = large[i] ? size_t(std::max(o.split_count - 1, 0)) : 1;
+    if (added + adds > room) {
+      if (held_back) *held_back = candidates.size() - k;
+      break;
+    }
+    added += adds;
+    grows[i] = 1;
+  }
+  return grows;
+}
+
 DensifyResult densify_and_prune(GaussianModel& m, GaussianAdam& adam, DensificationStats& stats,
                                 double extent, bool prune_large, std::mt19937_64& rng,
                                 const DensifyOptions& o) {
@@ -91,10 +119,15 @@ DensifyResult densify_and_prune(GaussianModel& m, GaussianAdam& adam, Densificat
   // Screen radii seen before this step: the pruning test uses them.
   std::vector<float> radius = stats.max_radius;
   const float dense = float(o.percent_dense * extent);
+  std::vector<uint8_t> large(n0);
+  for (size_t i = 0; i < n0; ++i) large[i] = max_scale(m, i) > dense;
+  const size_t room = o.max_gaussians > n0 ? o.max_gaussians - n0 : 0;
+  const std::vector<uint8_t> grows =
+      densification_candidates(grad, large, room, o, &result.held_back);
 
   // Clone: small Gaussians with large gradients get a copy.
   for (size_t i = 0; i < n0; ++i) {
-    if (grad[i] >= o.grad_threshold && max_scale(m, i) <= dense) {
+    if (grows[i] && max_scale(m, i) <= dense) {
       append_copy(m, i);
       ++result.cloned;
     }
@@ -102,7 +135,7 @@ DensifyResult densify_and_prune(GaussianModel& m, GaussianAdam& adam, Densificat
   // Split: large ones are replaced by split_count samples from themselves.
   std::vector<uint8_t> remove(m.size(), 0);
   for (size_t i = 0; i < n0; ++i) {
-    if (!(grad[i] >= o.grad_threshold && max_scale(m, i) > dense)) continue;
+    if (!(grows[i] && large[i])) continue;
     const Eigen::Quaternionf q(m.rotations[4 * i], m.rotations[4 * i + 1], m.rotations[4 * i + 2],
                                m.rotations[4 * i + 3]);
     const Eigen::Matrix3f R = q.normalized().toRotationMatrix();

@@ -27,6 +27,11 @@ struct DensifyOptions {
   // synthetic scene 20 costs about 5 dB of test PSNR (docs/benchmarks.md).
   float max_screen_radius = 0.f;
   float max_world_scale = 0.1f;  // prune largest scale above this * extent (likewise)
+  // A budget: at most this many Gaussians after a densification step (0: no
+  // budget, the paper's rule). Where the candidates would exceed it, those
+  // with the largest mean gradient grow (ties to the lower index), so that
+  // a laptop's memory, or the time an iteration takes, has a bound.
+  size_t max_gaussians = 0;
 };
 
 // Per-Gaussian statistics accumulated between densification steps.
@@ -49,7 +54,18 @@ struct DensificationStats {
 
 struct DensifyResult {
   size_t cloned = 0, split = 0, pruned = 0;
+  size_t held_back = 0;  // candidates the budget (max_gaussians) left as they were
 };
+
+// Which of the Gaussians whose mean gradient is `grad` grow in this step:
+// those at or above the threshold, and with a budget only as many as it has
+// room for, largest gradient first. A clone adds one Gaussian and a split
+// split_count - 1 (`large` marks the Gaussians that split). `room` is how
+// many Gaussians the budget can still add (ignored without a budget).
+std::vector<uint8_t> densification_candidates(const std::vector<float>& grad,
+                                              const std::vector<uint8_t>& large, size_t room,
+                                              const DensifyOptions& options,
+                                              size_t* held_back = nullptr);
 
 // Clones small Gaussians and splits large ones whose mean gradient is at
 // least the threshold, then prunes transparent ones (and, with prune_large,

@@ -226,6 +226,7 @@ TrainRunResult run_training(const fs::path& scene_dir, const fs::path& work,
     m["half_views_from"] = o.train.half_views.from_iteration;
   if (o.train.lr_position_hold_until > 0)
     m["position_lr_hold_until"] = o.train.lr_position_hold_until;
+  if (o.train.densify.max_gaussians > 0) m["max_gaussians"] = o.train.densify.max_gaussians;
   write_text_atomically(out.metrics(), m.dump(2) + "\n");
   plot_training_curve(out.log(), out.curve());
 

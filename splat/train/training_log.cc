@@ -53,6 +53,7 @@ void TrainingLog::record(const IterationStats& s, double elapsed) {
     j["densify"] = {{"cloned", s.densified.cloned},
                     {"split", s.densified.split},
                     {"pruned", s.densified.pruned}};
+  if (s.densified.held_back > 0) j["densify"]["held_back"] = s.densified.held_back;
   if (s.opacity_reset) j["opacity_reset"] = true;
   if (s.downscale != 1) j["downscale"] = s.downscale;
   if (s.half_view) j["half_view"] = true;

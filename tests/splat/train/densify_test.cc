@@ -88,6 +88,70 @@ TEST(Densify, ByDefaultNoScreenSizePruningAsTheReferenceDoes) {
   EXPECT_EQ(f.m.labels[0], 7);
 }
 
+TEST(Densify, ABudgetGrowsTheLargestGradientsFirst) {
+  Fixture f;
+  f.stats.grad_accum = {0.003f, 0.004f, 0.f};  // the large one's gradient is larger
+  DensifyOptions budget;
+  budget.max_gaussians = 4;  // room for one more: the split of Gaussian 1
+  std::mt19937_64 rng(1);
+  const DensifyResult r = densify_and_prune(f.m, f.adam, f.stats, 1.0, false, rng, budget);
+  EXPECT_EQ(r.split, 1u);
+  EXPECT_EQ(r.cloned, 0u);
+  EXPECT_EQ(r.held_back, 1u);
+  EXPECT_EQ(f.m.labels, (std::vector<int32_t>{7, 8, 8})) << "the transparent one pruned";
+
+  Fixture g;
+  g.stats.grad_accum = {0.004f, 0.003f, 0.f};  // now the small one's is larger
+  std::mt19937_64 rng2(1);
+  const DensifyResult s = densify_and_prune(g.m, g.adam, g.stats, 1.0, false, rng2, budget);
+  EXPECT_EQ(s.cloned, 1u);
+  EXPECT_EQ(s.split, 0u);
+  EXPECT_EQ(g.m.labels, (std::vector<int32_t>{7, 8, 7}));
+}
+
+TEST(Densify, ABudgetWithRoomChangesNothing) {
+  Fixture f, g;
+  DensifyOptions budget;
+  budget.max_gaussians = 5;  // exactly the room the two candidates need
+  std::mt19937_64 rng_f(3), rng_g(3);
+  const DensifyResult r = densify_and_prune(f.m, f.adam, f.stats, 1.0, false, rng_f);
+  const DensifyResult s = densify_and_prune(g.m, g.adam, g.stats, 1.0, false, rng_g, budget);
+  EXPECT_EQ(s.held_back, 0u);
+  EXPECT_EQ(r.cloned + r.split + r.pruned, s.cloned + s.split + s.pruned);
+  EXPECT_EQ(f.m.means, g.m.means) << "the same split samples, drawn in the same order";
+  EXPECT_EQ(f.m.log_scales, g.m.log_scales);
+}
+
+TEST(Densify, ABudgetAlreadyReachedGrowsNothing) {
+  Fixture f;
+  DensifyOptions budget;
+  budget.max_gaussians = 2;  // below the 3 there are
+  std::mt19937_64 rng(1);
+  const DensifyResult r = densify_and_prune(f.m, f.adam, f.stats, 1.0, false, rng, budget);
+  EXPECT_EQ(r.cloned + r.split, 0u);
+  EXPECT_EQ(r.held_back, 2u);
+  EXPECT_EQ(f.m.size(), 2u) << "pruning still frees room";
+}
+
+TEST(Densify, CandidatesWithinABudgetCountASplitsNewGaussians) {
+  // Gradients 5, 4, 3, 2, 1 (times 1e-3), the first two large (a split of
+  // three adds two), the threshold 1.5e-3; room 5: 2 + 2 + 1, then no room.
+  const std::vector<float> grad = {5e-3f, 4e-3f, 3e-3f, 2e-3f, 1e-3f};
+  const std::vector<uint8_t> large = {1, 1, 0, 0, 0};
+  DensifyOptions o;
+  o.grad_threshold = 1.5e-3f;
+  o.split_count = 3;
+  o.max_gaussians = 100;
+  size_t held_back = 0;
+  EXPECT_EQ(densification_candidates(grad, large, 5, o, &held_back),
+            (std::vector<uint8_t>{1, 1, 1, 0, 0}));
+  EXPECT_EQ(held_back, 1u);
+  o.max_gaussians = 0;  // no budget: the threshold alone, whatever the room
+  EXPECT_EQ(densification_candidates(grad, large, 0, o, &held_back),
+            (std::vector<uint8_t>{1, 1, 1, 1, 0}));
+  EXPECT_EQ(held_back, 0u);
+}
+
 TEST(Densify, ResetOpacityCapsAt001) {
   Fixture f;
   reset_opacity(f.m, f.adam);
