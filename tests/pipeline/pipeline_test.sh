@@ -59,6 +59,17 @@ m="$tmp/given2/metrics.json"
 ! grep -q '"sparse_adam"' "$m" || fail "--no-sparse-adam lost to --recipe fast ($m)"
 grep -q '"half_views_from"' "$m" || fail "--recipe fast set no half views ($m)"
 
+echo "-- op2gs-train --max-gaussians: densification adds none beyond the budget"
+"$bin/op2gs-train" "$w/sfm/scene" "$tmp/budget" --max-gaussians 1 --densify-from 20 \
+  --densify-every 20 --densify-until 100 --iterations 100 --no-final-test > "$tmp/budget.log" 2>&1 ||
+  { tail -20 "$tmp/budget.log"; fail "op2gs-train --max-gaussians failed"; }
+grep -q '"max_gaussians": 1' "$tmp/budget/metrics.json" || fail "metrics.json lacks the budget"
+log="$tmp/budget/train_log.jsonl"
+grep -q '"held_back"' "$log" || fail "the budget held back no candidate ($log)"
+counts=$(grep -o '"gaussians":[0-9]*' "$log" | cut -d: -f2)
+[ "$(echo "$counts" | sort -n | tail -1)" = "$(echo "$counts" | head -1)" ] ||
+  fail "the Gaussians grew past the count the budget found ($log)"
+
 echo "-- a second make does nothing"
 mk "${tiny[@]}" -q || fail "make -q says something is stale"
 mk "${tiny[@]}" | grep "Nothing to be done" > /dev/null || fail "a second make did work"
