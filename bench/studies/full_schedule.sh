@@ -40,6 +40,12 @@
 #       (A, B, B, A), given to both stages, e.g. "" "--sparse-adam
 #       --half-views-from 1": what the fast recipe's options save at the
 #       paper's model sizes (the output calls A "old" and B "new").
+#   bench/studies/full_schedule.sh runs BUILD DIR RUN_A "OPTIONS_A" RUN_B "OPTIONS_B"
+#       The same, each arm resumed from its own run's kept checkpoints
+#       (DIR/RUN_A, DIR/RUN_B, e.g. full and a stage one of other options),
+#       with its own options: what another recipe's models cost an
+#       iteration, each at its own size. Stage two's points need each run's
+#       vote and stage-two checkpoints.
 #   bench/studies/full_schedule.sh threads BUILD DIR
 #       Thread scaling: 1 and 2 threads alternated at every checkpoint.
 #   bench/studies/full_schedule.sh profile BUILD DIR ITERATION
@@ -53,7 +59,7 @@
 # cache warm does not; one epoch, the training views' count, times the warm
 # cache), VIEWS, WIDTH, HEIGHT (the scene, 300 986 728).
 set -euo pipefail
-mode="${1:?usage: bench/studies/full_schedule.sh full|variant|summary|sampled|paired|options|threads|profile ...}"
+mode="${1:?usage: bench/studies/full_schedule.sh full|variant|summary|sampled|paired|options|runs|threads|profile ...}"
 shift
 here="$(cd "$(dirname "$0")" && pwd)"
 # shellcheck source=bench/timing.sh
@@ -156,13 +162,14 @@ resume_from() {  # TMP FULL SUBDIR STAGE
 }
 
 # Times SAMPLE iterations from iteration K (after WARMUP untimed ones) with
-# BUILD and the training options in $options (none if unset); prints seconds
-# per iteration, or nothing when K's checkpoint is missing.
+# BUILD, the training options in $options (none if unset) and the kept
+# checkpoints of DIR/$run (DIR/full if unset); prints seconds per
+# iteration, or nothing when K's checkpoint is missing.
 time_from() {  # BUILD DIR K THREADS
   local bin="$1/stages" dir="$2" k="$3" threads="$4" tmp log extra
   read -r -a extra <<< "${options:-}"
   local stop=$((k + warmup + sample))
-  local full="$dir/full"
+  local full="$dir/${run:-full}"
   tmp="$(mktemp -d "$dir/sample.XXXXXX")"
   # Skip the test views at the end (builds older than the flag score them,
   # outside the timed iterations).
@@ -197,15 +204,17 @@ time_from() {  # BUILD DIR K THREADS
 
 # Times each sampled point four times, arm A, B, B, A, so that the VM's
 # drift hits both alike, and prints "K a1 a2 b1 b2" lines. An arm is a
-# build, a thread count and training options.
+# build, a thread count and training options, and the run whose checkpoints
+# it resumes ($run_a, $run_b: full if unset).
 alternate() {  # DIR A_BUILD A_THREADS A_OPTIONS B_BUILD B_THREADS B_OPTIONS
-  local dir="$1" k a1 a2 b1 b2
+  local dir="$1" k a1 a2 b1 b2 ra="${run_a:-full}" rb="${run_b:-full}"
   for k in "${points[@]}"; do
-    a1="$(options="$4" time_from "$2" "$dir" "$k" "$3")"
+    a1="$(run="$ra" options="$4" time_from "$2" "$dir" "$k" "$3")"
     [ -n "$a1" ] || continue
-    b1="$(options="$7" time_from "$5" "$dir" "$k" "$6")"
-    b2="$(options="$7" time_from "$5" "$dir" "$k" "$6")"
-    a2="$(options="$4" time_from "$2" "$dir" "$k" "$3")"
+    b1="$(run="$rb" options="$7" time_from "$5" "$dir" "$k" "$6")"
+    [ -n "$b1" ] || continue
+    b2="$(run="$rb" options="$7" time_from "$5" "$dir" "$k" "$6")"
+    a2="$(run="$ra" options="$4" time_from "$2" "$dir" "$k" "$3")"
     echo "$k $a1 $a2 $b1 $b2"
   done
 }
@@ -292,6 +301,14 @@ case "$mode" in
     alternate "$dir" "$build" 0 "$a" "$build" 0 "$b" |
       tee >(cat >&2) | python3 "$here/full_schedule_integrate.py" --paired
     ;;
+  runs)
+    build="$1" dir="$2"
+    for r in "$3" "$5"; do
+      [ -d "$dir/$r/checkpoints" ] || { echo "bench/studies/full_schedule.sh: $dir/$r: no checkpoints" >&2; exit 1; }
+    done
+    run_a="$3" run_b="$5" alternate "$dir" "$build" 0 "$4" "$build" 0 "$6" |
+      tee >(cat >&2) | python3 "$here/full_schedule_integrate.py" --paired
+    ;;
   threads)
     build="$1" dir="$2"
     make_scene "$dir" "$build"
@@ -312,7 +329,7 @@ case "$mode" in
     time_from "$1" "$2" "$3" 0
     ;;
   *)
-    echo "bench/studies/full_schedule.sh: unknown mode '$mode' (full, variant, summary, sampled, paired, options, threads or profile)" >&2
+    echo "bench/studies/full_schedule.sh: unknown mode '$mode' (full, variant, summary, sampled, paired, options, runs, threads or profile)" >&2
     exit 2
     ;;
 esac
