@@ -212,7 +212,10 @@ alternate() {  # DIR A_BUILD A_THREADS A_OPTIONS B_BUILD B_THREADS B_OPTIONS
     a1="$(run="$ra" options="$4" time_from "$2" "$dir" "$k" "$3")"
     [ -n "$a1" ] || continue
     b1="$(run="$rb" options="$7" time_from "$5" "$dir" "$k" "$6")"
-    [ -n "$b1" ] || continue
+    if [ -z "$b1" ]; then
+      echo "bench/studies/full_schedule.sh: $dir/$rb has no checkpoint at $k: the point is left out" >&2
+      continue
+    fi
     b2="$(run="$rb" options="$7" time_from "$5" "$dir" "$k" "$6")"
     a2="$(run="$ra" options="$4" time_from "$2" "$dir" "$k" "$3")"
     echo "$k $a1 $a2 $b1 $b2"
