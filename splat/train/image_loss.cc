@@ -11,7 +11,9 @@
 namespace splat {
 namespace {
 
-constexpr int kRadius = 5;  // 11x11 window, sigma 1.5
+constexpr int kRadius = 5;   // 11x11 window, sigma 1.5
+constexpr int kMargin = 16;  // zeros before a row's column 0: at least kRadius
+static_assert(kMargin >= kRadius && kMargin % 16 == 0);
 constexpr float kC1 = 0.01f * 0.01f, kC2 = 0.03f * 0.03f;
 // Rows are processed in bands of this many, in parallel; each band's sum is
 // kept apart and the bands are added in order, so the result is the same
@@ -54,6 +56,27 @@ void for_each_band(int H, const Body& body) {
 // loss took 1.2 times as long with rows wherever the width put them).
 size_t row_stride(int W) { return (size_t(W) + 15) / 16 * 16; }
 
+// The planes the horizontal pass reads (the render's and the photo's
+// channels and the SSIM map's derivatives) have each row between zeros, a
+// margin of kMargin floats before column 0 (which keeps it on a cache line)
+// and the row's padding after column W, then the next row's margin (the
+// last row's is one more at the end of the plane): the pass reads them at
+// every output column in vectors, borders included. Column 0 of row y:
+size_t margin_stride(int W) { return row_stride(W) + kMargin; }
+size_t margin_row(int y, int W) { return size_t(y) * margin_stride(W) + kMargin; }
+size_t margin_plane_size(int W, int H) { return size_t(H) * margin_stride(W) + kMargin; }
+
+// Writes the zeros around the rows of a margin plane; its rows' W values
+// are written by the loss, which leaves the zeros as they are.
+void clear_margins(ImageBuffer<float>& plane, int W, int H) {
+  for (int y = 0; y < H; ++y) {
+    float* row = &plane[margin_row(y, W)];
+    std::fill(row - kMargin, row, 0.f);
+    std::fill(row + W, row + row_stride(W), 0.f);
+  }
+  std::fill(plane.end() - kMargin, plane.end(), 0.f);
+}
+
 // A band's scratch rows, cache-line aligned and left uninitialised: every
 // element is written before it is read (clearing them was a few per cent
 // of the loss).
@@ -67,52 +90,72 @@ inline Lanes load_lanes(const float* p) {
   std::memcpy(&v, p, sizeof v);
   return v;
 }
+// An unaligned store through a vector type of float alignment: GCC 12
+// copied a memcpy of a whole vector through the stack, as 32-byte halves.
+using UnalignedLanes = float __attribute__((vector_size(kLanes * sizeof(float)), aligned(4)));
+inline void store_lanes(float* p, Lanes v) { *reinterpret_cast<UnalignedLanes*>(p) = v; }
 
-// out[i] = sum over taps t of weight[t] * rows[t][i] for i in [0, n), the
-// taps of each pixel added in order. Chunks of kLanes pixels keep their sums
-// in registers and are stored once (adding tap by tap into the output row
-// cost a load and a store per tap and pixel, which bound the blurs), four
-// chunks at a time so that their chains of multiply-adds overlap.
-void weighted_rows(const float* const* rows, const float* weight, int taps, int n, float* out) {
+// out[i] = sum over taps t of weight[t] * rows[t][i] for i in [0, n), n a
+// multiple of kLanes (rows padded to row_stride), the taps of each pixel
+// added in order. Chunks of kLanes pixels keep their sums in registers and
+// are stored once (adding tap by tap into the output row cost a load and a
+// store per tap and pixel, which bound the blurs), four chunks at a time so
+// that their chains of multiply-adds overlap. kFixedTaps: the tap count as a
+// constant (0: `taps`), which lets the compiler keep the weights and rows in
+// registers for the whole row (the vertical pass's rows away from the
+// image's top and bottom).
+template <int kFixedTaps>
+void weighted_rows_of(const float* const* rows, const float* weight, int taps, int n, float* out) {
+  if constexpr (kFixedTaps > 0) taps = kFixedTaps;
   constexpr int kChunks = 4;
   int i = 0;
   for (; i + kChunks * kLanes <= n; i += kChunks * kLanes) {
     Lanes acc[kChunks] = {};
     for (int t = 0; t < taps; ++t)
       for (int c = 0; c < kChunks; ++c) acc[c] += weight[t] * load_lanes(rows[t] + i + c * kLanes);
-    std::memcpy(out + i, acc, sizeof acc);
+    for (int c = 0; c < kChunks; ++c) store_lanes(out + i + c * kLanes, acc[c]);
   }
-  for (; i + kLanes <= n; i += kLanes) {
+  for (; i < n; i += kLanes) {
     Lanes acc = {};
     for (int t = 0; t < taps; ++t) acc += weight[t] * load_lanes(rows[t] + i);
-    std::memcpy(out + i, &acc, sizeof acc);
-  }
-  for (; i < n; ++i) {
-    float acc = 0;
-    for (int t = 0; t < taps; ++t) acc += weight[t] * rows[t][i];
-    out[i] = acc;
+    store_lanes(out + i, acc);
   }
 }
+void weighted_rows(const float* const* rows, const float* weight, int taps, int n, float* out) {
+  if (taps == 2 * kRadius + 1) return weighted_rows_of<2 * kRadius + 1>(rows, weight, taps, n, out);
+  weighted_rows_of<0>(rows, weight, taps, n, out);
+}
 
-// One row of the horizontal pass (zero padding): out[x] = sum_k w[k] in[x+k].
-// Taps are added in the same order at every pixel, borders included.
+// A row between zeros, as a margin plane's (above), for the products the
+// horizontal pass blurs. The zeros are written once; the caller writes
+// the row's W values.
+class PaddedRow {
+ public:
+  explicit PaddedRow(int W) : values_(row_stride(W) + 2 * kMargin) {
+    std::fill(values_.begin(), values_.end(), 0.f);
+  }
+  float* row() { return values_.data() + kMargin; }  // column 0
+
+ private:
+  ImageBuffer<float> values_;
+};
+
+// One row of the horizontal pass (zero padding): out[x] = sum_k w[k] in[x+k]
+// over the row's stride, the columns past W included (which the vertical
+// pass reads in vectors; they come out finite). `in` is column 0 of a row
+// between zeros (a margin plane's or a PaddedRow's). Taps are added in the
+// same order at every pixel; a tap on a zero adds +0 to a sum that started
+// at +0 (and so is never -0), so a border pixel comes out as the sum of its
+// taps inside the image, the reference's zero padding, to the bit.
 void blur_row(const Window& w, const float* in, float* out, int W) {
-  const int lo = std::min(kRadius, W), hi = std::max(lo, W - kRadius);
   std::array<const float*, 2 * kRadius + 1> taps;
-  for (int k = 0; k <= 2 * kRadius; ++k) taps[k] = in + lo + k - kRadius;
-  weighted_rows(taps.data(), w.data(), 2 * kRadius + 1, hi - lo, out + lo);
-  const auto border = [&](int b) {
-    float s = 0;
-    for (int k = -kRadius; k <= kRadius; ++k)
-      if (b + k >= 0 && b + k < W) s += w[k + kRadius] * in[b + k];
-    out[b] = s;
-  };
-  for (int b = 0; b < lo; ++b) border(b);
-  for (int b = hi; b < W; ++b) border(b);
+  for (int k = 0; k <= 2 * kRadius; ++k) taps[k] = in + k - kRadius;
+  weighted_rows(taps.data(), w.data(), 2 * kRadius + 1, int(row_stride(W)), out);
 }
 
 // Rows [y0, y1) of the vertical pass over a horizontally blurred plane,
-// output row y to out(y - y0); rows off the image are left out (zero padding).
+// output row y to out(y - y0) over the row's stride (whole vectors); rows
+// off the image are left out (zero padding).
 template <typename OutRow>
 void blur_columns(const Window& w, const ImageBuffer<float>& in, int y0, int y1, int W, int H,
                   const OutRow& out) {
@@ -126,7 +169,7 @@ void blur_columns(const Window& w, const ImageBuffer<float>& in, int y0, int y1,
       rows[taps] = &in[size_t(y + k) * S];
       weights[taps++] = w[k + kRadius];
     }
-    weighted_rows(rows.data(), weights.data(), taps, W, out(y - y0));
+    weighted_rows(rows.data(), weights.data(), taps, int(S), out(y - y0));
   }
 }
 
@@ -134,18 +177,19 @@ void blur_columns(const Window& w, const ImageBuffer<float>& in, int y0, int y1,
 void blur_statistics_horizontally(const Window& w, ImageLossBuffers& b, int W, int H, int c) {
   const size_t S = row_stride(W);
   for_each_band(H, [&](int, int y0, int y1) {
-    auto row = scratch(W);
+    PaddedRow product(W);
+    float* row = product.row();
     for (int y = y0; y < y1; ++y) {
       const size_t o = size_t(y) * S;
-      const float *x = &b.x[c][o], *t = &b.y[c][o];
+      const float *x = &b.x[c][margin_row(y, W)], *t = &b.y[c][margin_row(y, W)];
       blur_row(w, x, &b.blurred[0][o], W);
       blur_row(w, t, &b.blurred[1][o], W);
       for (int i = 0; i < W; ++i) row[i] = x[i] * x[i];
-      blur_row(w, row.data(), &b.blurred[2][o], W);
+      blur_row(w, row, &b.blurred[2][o], W);
       for (int i = 0; i < W; ++i) row[i] = t[i] * t[i];
-      blur_row(w, row.data(), &b.blurred[3][o], W);
+      blur_row(w, row, &b.blurred[3][o], W);
       for (int i = 0; i < W; ++i) row[i] = x[i] * t[i];
-      blur_row(w, row.data(), &b.blurred[4][o], W);
+      blur_row(w, row, &b.blurred[4][o], W);
     }
   });
 }
@@ -215,7 +259,7 @@ double ssim_from_statistics(const Window& w, ImageLossBuffers& b, int W, int H, 
     double sum = 0;
     for (int y = y0; y < y1; ++y) {
       const float* row = &stats[size_t(y - y0) * 5 * S];
-      const size_t o = size_t(y) * S;
+      const size_t o = margin_row(y, W);
       sum += gradient
                  ? ssim_row<true>(row, S, W, &b.d_stats[0][o], &b.d_stats[1][o], &b.d_stats[2][o])
                  : ssim_row<false>(row, S, W, nullptr, nullptr, nullptr);
@@ -233,10 +277,8 @@ void ssim_gradient(const Window& w, ImageLossBuffers& b, int W, int H, int c) {
   const size_t S = row_stride(W);
   for_each_band(H, [&](int, int y0, int y1) {
     for (int y = y0; y < y1; ++y)
-      for (int q = 0; q < 3; ++q) {
-        const size_t o = size_t(y) * S;
-        blur_row(w, &b.d_stats[q][o], &b.blurred[q][o], W);
-      }
+      for (int q = 0; q < 3; ++q)
+        blur_row(w, &b.d_stats[q][margin_row(y, W)], &b.blurred[q][size_t(y) * S], W);
   });
   for_each_band(H, [&](int, int y0, int y1) {
     auto rows = scratch(size_t(kBandRows) * 3 * S);  // [row][statistic][column]
@@ -246,7 +288,7 @@ void ssim_gradient(const Window& w, ImageLossBuffers& b, int W, int H, int c) {
     for (int y = y0; y < y1; ++y) {
       const float* g = &rows[size_t(y - y0) * 3 * S];
       const size_t o = size_t(y) * S;
-      const float *x = &b.x[c][o], *t = &b.y[c][o];
+      const float *x = &b.x[c][margin_row(y, W)], *t = &b.y[c][margin_row(y, W)];
       float* d = &b.d_ssim[c][o];
       for (int i = 0; i < W; ++i) d[i] = g[i] + 2 * x[i] * g[S + i] + t[i] * g[2 * S + i];
     }
@@ -296,7 +338,6 @@ void split_row(const float* __restrict rgb, float* __restrict r, float* __restri
 std::pair<double, double> read_images(std::span<const float> rendered, const ImageRGB& target,
                                       float g, std::vector<float>* grad, ImageLossBuffers& b) {
   const int W = target.width, H = target.height;
-  const size_t S = row_stride(W);
   if (grad) grad->resize(rendered.size());
   const float* x = rendered.data();
   const float* t = target.data.data();
@@ -313,7 +354,7 @@ std::pair<double, double> read_images(std::span<const float> rendered, const Ima
     b.band_sums[band] = abs_sum;
     b.band_sums[bands_of(H) + band] = square_sum;
     for (int y = y0; y < y1; ++y) {
-      const size_t o = size_t(y) * S, i = size_t(y) * W * 3;
+      const size_t o = margin_row(y, W), i = size_t(y) * W * 3;
       split_row(x + i, &b.x[0][o], &b.x[1][o], &b.x[2][o], W);
       split_row(t + i, &b.y[0][o], &b.y[1][o], &b.y[2][o], W);
     }
@@ -349,11 +390,20 @@ void add_ssim_gradient(const ImageLossBuffers& b, int W, int H, float scale,
 
 void prepare(ImageLossBuffers& b, int W, int H, bool gradient) {
   const size_t n = row_stride(W) * H;  // planes of padded rows
-  for (int c = 0; c < 3; ++c) b.x[c].resize(n), b.y[c].resize(n);
+  const size_t m = margin_plane_size(W, H);
+  for (int c = 0; c < 3; ++c) b.x[c].resize(m), b.y[c].resize(m);
   for (auto& v : b.blurred) v.resize(n);
-  for (auto& d : b.d_stats) d.resize(gradient ? n : 0);
+  for (auto& d : b.d_stats) d.resize(gradient ? m : 0);
   for (auto& d : b.d_ssim) d.resize(gradient ? n : 0);
   b.band_sums.resize(2 * bands_of(H));
+  // The margins' zeros stay from call to call: they are written only for a
+  // new layout.
+  const std::array<int, 3> layout = {W, H, gradient ? 1 : 0};
+  if (b.margin_layout == layout) return;
+  for (int c = 0; c < 3; ++c) clear_margins(b.x[c], W, H), clear_margins(b.y[c], W, H);
+  if (gradient)
+    for (auto& d : b.d_stats) clear_margins(d, W, H);
+  b.margin_layout = layout;
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 // zero padding at the borders (PyTorch's conv2d with padding 5, as the
 // reference computes it), averaged over pixels and channels.
 
+#include <array>
 #include <span>
 #include <vector>
 
@@ -28,12 +29,15 @@ struct ImageLoss {
 // they are tens of MB, and allocating them for every iteration cost as much
 // as the arithmetic (page faults, clearing).
 struct ImageLossBuffers {
-  // Planes of rows padded to a cache line (image_loss.cc's row_stride).
+  // Planes of rows padded to a cache line (image_loss.cc's row_stride); x,
+  // y and d_stats, which the horizontal blur reads, with zeros around each
+  // row (its margin planes).
   ImageBuffer<float> x[3], y[3];  // the render and the photo, channel by channel
   ImageBuffer<float> blurred[5];  // x, y, x^2, y^2, xy of one channel after the horizontal pass
   ImageBuffer<float> d_stats[3];  // dS/d(mu_x), dS/d(E[x^2]), dS/d(E[xy]) per pixel
   ImageBuffer<float> d_ssim[3];  // d(SSIM map sum)/dx per channel, added to the gradient at the end
-  std::vector<double> band_sums;  // per band of rows, summed in order
+  std::vector<double> band_sums;       // per band of rows, summed in order
+  std::array<int, 3> margin_layout{};  // width, height, gradient: the margins written for
 };
 
 // Loss of rendered (interleaved RGB, W x H) against target; when grad is not
