@@ -3,7 +3,7 @@
 // form of its lane sums and AVX-512 and AVX2 forms that add the lanes in one
 // order, and for the training losses a loop with its sums in registers, a
 // whole block a register with AVX-512 and an 8-lane half with AVX2 (the
-// same bits). One step kept in one file, as gsplat
+// same values). One step kept in one file, as gsplat
 // keeps its rasterize backward: its parts share the per-tile state and are
 // only correct together. The slow reference it is tested against is kept
 // apart, in tests/splat/render/reference_renderer.cc.
@@ -86,9 +86,14 @@ struct TileBackState {
   alignas(64) float behind_color[kBlocks][kLanes];
   alignas(64) float behind_depth[kBlocks][kLanes];
   alignas(64) int32_t block_last[kBlocks];  // largest `last` of each block
-  std::vector<float> g_planes;              // dL/dS: [plane][block][lane]
-  std::vector<uint8_t> tile_planes;         // per plane: loaded for this tile
-  int32_t first_geometry_plane = 0;         // planes below it reach sigma* only
+  // First pixel centre of each block (PixelBlock's cx0 and cy0), once per
+  // tile: in the entry loop, finding them from the block's index took a
+  // tenth of its instructions.
+  alignas(64) float block_cx0[kBlocks];
+  alignas(64) float block_cy0[kBlocks];
+  std::vector<float> g_planes;       // dL/dS: [plane][block][lane]
+  std::vector<uint8_t> tile_planes;  // per plane: loaded for this tile
+  int32_t first_geometry_plane = 0;  // planes below it reach sigma* only
 };
 
 // sum += value, or, for the first block an entry visits (kFirst), sum =
@@ -363,7 +368,11 @@ inline RegisterLanes::F add_product(RegisterLanes::F sum, RegisterLanes::F a, Re
 // back_block<kColor, kInstance, no alpha or depth terms> on lanes h .. h +
 // kWidth - 1 of one block, the sums in registers and the conditions as
 // masks: the same operations where they round, fused alike, as GCC compiles
-// the lane loop, so the same bits.
+// the lane loop, so the same bits but for the sign of zeros: dL/dalpha
+// starts as its colour term (the lane loop adds it to +0) and is zeroed by
+// a mask (the lane loop multiplies it by 0, which makes -0 of a negative
+// one), two instructions fewer. -0 and +0 are the same to every step after
+// the rasterizer (the trained models are the same to the byte).
 template <bool kInstance, bool kFirst>
 inline void back_lanes(const SplatRecord& gs, int32_t position, float px0, float py0, int block,
                        int h, const float* g_plane, float op_star_geometry, TileBackState& s,
@@ -397,15 +406,13 @@ inline void back_lanes(const SplatRecord& gs, int32_t position, float px0, float
   g_c = V::fmadd(g_blue, V::set1(gs.b), g_c);
   float* behind = s.behind_color[block] + h;
   const F behind_before = V::load(behind);
-  F g_alpha = V::add(zero, V::fmsub(g_c, T_i, V::mul(behind_before, inv_one_minus)));
+  F g_alpha = V::fmsub(g_c, T_i, V::mul(behind_before, inv_one_minus));
   sum.red = add_product<kFirst>(sum.red, g_red, w);
   sum.green = add_product<kFirst>(sum.green, g_green, w);
   sum.blue = add_product<kFirst>(sum.blue, g_blue, w);
   V::store(behind, V::fmadd(w, g_c, behind_before));
-  // A product with 0 or 1, not a select: a negative g_alpha times 0 is -0,
-  // as in the lane loop.
   const M unclamped = V::less(raw_alpha, V::set1(kMaxAlpha));
-  g_alpha = V::mul(g_alpha, V::ones_where(V::both(valid, unclamped)));
+  g_alpha = V::zero_unless(V::both(valid, unclamped), g_alpha);
   sum.opacity = add_product<kFirst>(sum.opacity, g_alpha, G);
   F g_G = V::mul(g_alpha, op);
   if constexpr (kInstance) {
@@ -434,23 +441,22 @@ inline void back_lanes(const SplatRecord& gs, int32_t position, float px0, float
 // sums.
 template <bool kInstance>
 inline void back_blocks_in_registers(const TileGaussians& tg, size_t k, unsigned reached,
-                                     int tile_x0, int tile_y0, const float* g_planes,
-                                     float instance_geometry, TileBackState& s,
-                                     float (&acc)[kEntryGrads][kLanes]) {
+                                     const float* g_planes, float instance_geometry,
+                                     TileBackState& s, float (&acc)[kEntryGrads][kLanes]) {
   using V = RegisterLanes;
   const SplatRecord& gs = tg[k];
   const int first = __builtin_ctz(reached);
-  const PixelBlock first_block = PixelBlock::in_tile(tile_x0, tile_y0, first);
   const float op_star_geometry = instance_geometry * gs.instance_opacity;  // as back_block's
   auto plane = [&](int b) { return kInstance ? g_planes + b * kLanes : nullptr; };
   for (int h = 0; h < kLanes; h += V::kWidth) {
     LaneSums sum{};  // the first block sets every row
-    back_lanes<kInstance, true>(gs, int32_t(k), first_block.cx0(), first_block.cy0(), first, h,
+    back_lanes<kInstance, true>(gs, int32_t(k), s.block_cx0[first], s.block_cy0[first], first, h,
                                 plane(first), op_star_geometry, s, sum);
-    for_each_block(reached & (reached - 1), tile_x0, tile_y0, [&](int b, const PixelBlock& block) {
-      back_lanes<kInstance, false>(gs, int32_t(k), block.cx0(), block.cy0(), b, h, plane(b),
+    for (unsigned rest = reached & (reached - 1); rest; rest &= rest - 1) {
+      const int b = __builtin_ctz(rest);
+      back_lanes<kInstance, false>(gs, int32_t(k), s.block_cx0[b], s.block_cy0[b], b, h, plane(b),
                                    op_star_geometry, s, sum);
-    });
+    }
     const auto store = [&](int row, V::F value) { V::store(acc[row] + h, value); };
     store(kSumX, sum.x), store(kSumY, sum.y), store(kSumXX, sum.xx), store(kSumXY, sum.xy);
     store(kSumYY, sum.yy), store(kRed, sum.red), store(kGreen, sum.green), store(kBlue, sum.blue);
@@ -469,8 +475,7 @@ inline void back_blocks(const TileGaussians& tg, size_t k, unsigned reached, int
                         TileBackState& s, float (&acc)[kEntryGrads][kLanes]) {
 #if defined(__AVX2__) && defined(__FMA__)
   if constexpr (kColor && !kAlphaDepth)
-    return back_blocks_in_registers<kInstance>(tg, k, reached, tile_x0, tile_y0, g_planes,
-                                               instance_geometry, s, acc);
+    return back_blocks_in_registers<kInstance>(tg, k, reached, g_planes, instance_geometry, s, acc);
 #endif
   auto plane = [&](int b) { return kInstance ? g_planes + b * kLanes : nullptr; };
   const int first = __builtin_ctz(reached);
@@ -600,6 +605,8 @@ void load_tile_state(const RenderSettings& settings, const RasterState& st,
   const float* T_final = &st.final_transmittance[t * kTilePixels];
   const uint32_t* last = &st.n_contrib[t * kTilePixels];
   for (int b = 0; b < kBlocks; ++b) {
+    const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, b);
+    s.block_cx0[b] = block.cx0(), s.block_cy0[b] = block.cy0();
     s.block_last[b] = 0;
     for (int l = 0; l < kLanes; ++l) {
       s.T[b][l] = s.T_final[b][l] = T_final[b * kLanes + l];

@@ -297,7 +297,8 @@ TEST(RendererBackward, ColourAndObjectLossTogetherAreTheSumOfEach) {
 // The gradient of a colour and object loss through the rasterizer's loop over
 // lanes (taken when the loss also has alpha or depth terms, here zero) and,
 // with AVX-512 or AVX2, through the loop that keeps its sums in registers (a
-// block a register, or an 8-lane half; training's losses): the same bits.
+// block a register, or an 8-lane half; training's losses): the same values,
+// to the bit but for the sign of zeros (which == does not tell apart).
 TEST(RendererBackward, GradientIsTheSameThroughEitherLaneLoop) {
   const GaussianModel m = random_scene(400, 31);
   const Camera cam = test_camera(70, 45);  // lanes off the image in the last blocks
