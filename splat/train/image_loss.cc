@@ -90,9 +90,11 @@ inline Lanes load_lanes(const float* p) {
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-// An unaligned store through a vector type of float alignment: GCC 12
-// copied a memcpy of a whole vector through the stack, as 32-byte halves.
-using UnalignedLanes = float __attribute__((vector_size(kLanes * sizeof(float)), aligned(4)));
+// An unaligned store through a vector type of float alignment (and
+// allowed to alias floats): GCC 12 copied a memcpy of a whole vector
+// through the stack, as 32-byte halves.
+using UnalignedLanes =
+    float __attribute__((vector_size(kLanes * sizeof(float)), aligned(4), may_alias));
 inline void store_lanes(float* p, Lanes v) { *reinterpret_cast<UnalignedLanes*>(p) = v; }
 
 // out[i] = sum over taps t of weight[t] * rows[t][i] for i in [0, n), n a
