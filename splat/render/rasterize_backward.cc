@@ -87,8 +87,8 @@ struct TileBackState {
   alignas(64) float behind_depth[kBlocks][kLanes];
   alignas(64) int32_t block_last[kBlocks];  // largest `last` of each block
   // First pixel centre of each block (PixelBlock's cx0 and cy0), once per
-  // tile: in the entry loop, finding them from the block's index took a
-  // tenth of its instructions.
+  // tile: in the register loop, finding them from the block's index for
+  // every entry took a tenth of its instructions.
   alignas(64) float block_cx0[kBlocks];
   alignas(64) float block_cy0[kBlocks];
   std::vector<float> g_planes;       // dL/dS: [plane][block][lane]
@@ -336,15 +336,6 @@ inline void write_entry(const float (&acc)[kEntryGrads][kLanes], const SplatReco
 #endif
 }
 
-// Calls visit(b, block) for each block b of the tile set in `blocks`.
-template <typename Visit>
-inline void for_each_block(unsigned blocks, int tile_x0, int tile_y0, Visit&& visit) {
-  for (; blocks; blocks &= blocks - 1) {
-    const int b = __builtin_ctz(blocks);
-    visit(b, PixelBlock::in_tile(tile_x0, tile_y0, b));
-  }
-}
-
 #if defined(__AVX2__) && defined(__FMA__)
 // An entry's sums over the blocks it reaches, one register of lanes each,
 // in registers (acc's rows but depth).
@@ -470,29 +461,29 @@ inline void back_blocks_in_registers(const TileGaussians& tg, size_t k, unsigned
 // Entry k's gradient terms over the blocks in `reached` (not empty) into
 // acc: the first block sets them, the others add to them.
 template <bool kColor, bool kInstance, bool kAlphaDepth>
-inline void back_blocks(const TileGaussians& tg, size_t k, unsigned reached, int tile_x0,
-                        int tile_y0, const float* g_planes, float instance_geometry,
-                        TileBackState& s, float (&acc)[kEntryGrads][kLanes]) {
+inline void back_blocks(const TileGaussians& tg, size_t k, unsigned reached, const float* g_planes,
+                        float instance_geometry, TileBackState& s,
+                        float (&acc)[kEntryGrads][kLanes]) {
 #if defined(__AVX2__) && defined(__FMA__)
   if constexpr (kColor && !kAlphaDepth)
     return back_blocks_in_registers<kInstance>(tg, k, reached, g_planes, instance_geometry, s, acc);
 #endif
   auto plane = [&](int b) { return kInstance ? g_planes + b * kLanes : nullptr; };
   const int first = __builtin_ctz(reached);
-  const PixelBlock block = PixelBlock::in_tile(tile_x0, tile_y0, first);
-  back_block<kColor, kInstance, kAlphaDepth, true>(tg, k, block.cx0(), block.cy0(), first,
-                                                   plane(first), instance_geometry, s, acc);
-  for_each_block(reached & (reached - 1), tile_x0, tile_y0, [&](int b, const PixelBlock& block) {
-    back_block<kColor, kInstance, kAlphaDepth, false>(tg, k, block.cx0(), block.cy0(), b, plane(b),
-                                                      instance_geometry, s, acc);
-  });
+  back_block<kColor, kInstance, kAlphaDepth, true>(tg, k, s.block_cx0[first], s.block_cy0[first],
+                                                   first, plane(first), instance_geometry, s, acc);
+  for (unsigned rest = reached & (reached - 1); rest; rest &= rest - 1) {
+    const int b = __builtin_ctz(rest);
+    back_block<kColor, kInstance, kAlphaDepth, false>(tg, k, s.block_cx0[b], s.block_cy0[b], b,
+                                                      plane(b), instance_geometry, s, acc);
+  }
 }
 
 // All blocks of one tile, Gaussians back to front; each Gaussian's gradient
 // is summed over the blocks it reaches, then over lanes, once.
 template <bool kColor, bool kInstance, bool kAlphaDepth>
-void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0, int tile_y0,
-                   TileBackState& s, std::vector<float>& entry_grads) {
+void backward_tile(const TileGaussians& tg, const uint32_t* entries, TileBackState& s,
+                   std::vector<float>& entry_grads) {
   int32_t last = 0;
   for (int b = 0; b < kBlocks; ++b) last = std::max(last, s.block_last[b]);
   // Entries behind every pixel's last contributor get no gradient.
@@ -515,17 +506,16 @@ void backward_tile(const TileGaussians& tg, const uint32_t* entries, int tile_x0
     if (kInstance && tg[k].plane >= 0) {
       const float* g_planes = &s.g_planes[size_t(tg[k].plane) * kBlocks * kLanes];
       const float instance_geometry = tg[k].plane >= s.first_geometry_plane ? 1.f : 0.f;
-      back_blocks<kColor, true, kAlphaDepth>(tg, size_t(k), reached, tile_x0, tile_y0, g_planes,
-                                             instance_geometry, s, acc);
+      back_blocks<kColor, true, kAlphaDepth>(tg, size_t(k), reached, g_planes, instance_geometry, s,
+                                             acc);
     } else {
-      back_blocks<kColor, false, kAlphaDepth>(tg, size_t(k), reached, tile_x0, tile_y0, nullptr,
-                                              0.f, s, acc);
+      back_blocks<kColor, false, kAlphaDepth>(tg, size_t(k), reached, nullptr, 0.f, s, acc);
     }
     write_entry(acc, tg[size_t(k)], entry);
   }
 }
 
-using TileFunction = void (*)(const TileGaussians&, const uint32_t*, int, int, TileBackState&,
+using TileFunction = void (*)(const TileGaussians&, const uint32_t*, TileBackState&,
                               std::vector<float>&);
 
 TileFunction pick_tile_function(bool color, bool instance, bool alpha_depth) {
@@ -773,7 +763,7 @@ void backward_band(const RenderSettings& settings, const BackwardSettings& backw
       tg.use_blocks(st.slot_blocks.data() + lo);
       load_tile_state(settings, st, grads, color, t, tx * kTileSize, ty * kTileSize, *s);
       if (planes) load_tile_planes(tg, st, grads, planes, tx * kTileSize, ty * kTileSize, *s);
-      tile_fn(tg, entries.data(), tx * kTileSize, ty * kTileSize, *s, st.entry_grads);
+      tile_fn(tg, entries.data(), *s, st.entry_grads);
     }
   });
 }

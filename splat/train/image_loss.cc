@@ -128,24 +128,10 @@ void weighted_rows(const float* const* rows, const float* weight, int taps, int 
   weighted_rows_of<0>(rows, weight, taps, n, out);
 }
 
-// A row between zeros, as a margin plane's (above), for the products the
-// horizontal pass blurs. The zeros are written once; the caller writes
-// the row's W values.
-class PaddedRow {
- public:
-  explicit PaddedRow(int W) : values_(row_stride(W) + 2 * kMargin) {
-    std::fill(values_.begin(), values_.end(), 0.f);
-  }
-  float* row() { return values_.data() + kMargin; }  // column 0
-
- private:
-  ImageBuffer<float> values_;
-};
-
 // One row of the horizontal pass (zero padding): out[x] = sum_k w[k] in[x+k]
 // over the row's stride, the columns past W included (which the vertical
-// pass reads in vectors; they come out finite). `in` is column 0 of a row
-// between zeros (a margin plane's or a PaddedRow's). Taps are added in the
+// pass reads in vectors; they come out finite). `in` is column 0 of a
+// margin plane's row. Taps are added in the
 // same order at every pixel; a tap on a zero adds +0 to a sum that started
 // at +0 (and so is never -0), so a border pixel comes out as the sum of its
 // taps inside the image, the reference's zero padding, to the bit.
@@ -179,8 +165,9 @@ void blur_columns(const Window& w, const ImageBuffer<float>& in, int y0, int y1,
 void blur_statistics_horizontally(const Window& w, ImageLossBuffers& b, int W, int H, int c) {
   const size_t S = row_stride(W);
   for_each_band(H, [&](int, int y0, int y1) {
-    PaddedRow product(W);
-    float* row = product.row();
+    // The products, in a margin plane of one row (zeros but for its W values).
+    ImageBuffer<float> product(margin_plane_size(W, 1), 0.f);
+    float* row = &product[margin_row(0, W)];
     for (int y = y0; y < y1; ++y) {
       const size_t o = size_t(y) * S;
       const float *x = &b.x[c][margin_row(y, W)], *t = &b.y[c][margin_row(y, W)];
