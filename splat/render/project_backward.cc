@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "splat/render/fast_exp.h"
@@ -310,22 +311,27 @@ void backward_color_batch(const GaussianModel& m, const ProjectionView& v, const
 }
 
 // Zeroes the gradients of a batch's culled Gaussians and writes its visible
-// ones': the geometry a batch at a time, the colour and opacities one by one.
+// ones': the geometry a batch at a time, the colour and opacities one by one;
+// the SH rest's to the sink instead, when there is one.
 void backward_batch(const GaussianModel& m, const ProjectionView& v, const RenderSettings& s,
-                    bool zero_culled_gradients, const ProjectedGaussians& p,
+                    const BackwardSettings& backward_settings, const ProjectedGaussians& p,
                     const ProjectedGradients& pg, size_t first, size_t count, float half_w,
                     float half_h, GaussianGradients& g) {
   bool any_visible = false;
   for (size_t i = first; i < first + count; ++i) {
     if (p.visible(i)) {  // every field written below
       any_visible = true;
-    } else if (zero_culled_gradients) {
+    } else if (backward_settings.zero_culled_gradients) {
       zero_gradients(g, i);
     } else {
       g.visible[i] = 0;
     }
   }
-  if (!any_visible) return;
+  ShRestGradientSink* const sink = backward_settings.sh_rest_sink;
+  if (!any_visible) {
+    if (sink) sink->take(first, count, nullptr, 0);
+    return;
+  }
   GeometryGradientBatch geometry;
   if (count == kBatch) {
     backward_geometry(
@@ -350,12 +356,14 @@ void backward_batch(const GaussianModel& m, const ProjectionView& v, const Rende
   }
   ColorGradientBatch color;
   if (s.color) backward_color_batch(m, v, s, p, pg, first, count, color);
-  if (first + 2 * kBatch <= m.size()) prefetch_next_batch(&g.sh_rest[kShRestFloats * first], true);
+  alignas(64) float sunk_rows[kBatch][kShRestFloats];  // used with a sink only
+  if (!sink && first + 2 * kBatch <= m.size())
+    prefetch_next_batch(&g.sh_rest[kShRestFloats * first], true);
   float* rest_rows[kBatch];
   uint32_t visible_lanes = 0;
   for (size_t l = 0; l < count; ++l) {
     const size_t i = first + l;
-    rest_rows[l] = &g.sh_rest[kShRestFloats * i];
+    rest_rows[l] = sink ? sunk_rows[l] : &g.sh_rest[kShRestFloats * i];
     if (!p.visible(i)) continue;
     visible_lanes |= 1u << l;
     mark_visible(pg, i, half_w, half_h, g);
@@ -369,6 +377,7 @@ void backward_batch(const GaussianModel& m, const ProjectionView& v, const Rende
     backward_opacities(p, pg, i, g);
   }
   if (s.color) store_sh_rest_rows(color.sh_rest, rest_rows, visible_lanes);
+  if (sink) sink->take(first, count, &sunk_rows[0][0], visible_lanes);
 }
 
 }  // namespace
@@ -387,12 +396,14 @@ void project_gaussians_backward(const GaussianModel& m, const Camera& cam, const
     // At least 512 Gaussians a task, as project_gaussians.
     tbb::parallel_for(tbb::blocked_range<size_t>(0, batches, 32), [&](const auto& range) {
       for (size_t b = range.begin(); b < range.end(); ++b)
-        backward_batch(m, v, s, backward_settings.zero_culled_gradients, p, pg, b * kBatch,
+        backward_batch(m, v, s, backward_settings, p, pg, b * kBatch,
                        std::min<size_t>(kBatch, n - b * kBatch), half_w, half_h, g);
     });
     return;
   }
   // With the camera's gradient: one Gaussian at a time.
+  if (backward_settings.sh_rest_sink)
+    throw std::invalid_argument("an SH-rest gradient sink needs camera_gradient off");
   project_gaussians_backward_one_by_one(m, cam, s, p, pg, g);
 }
 

@@ -51,6 +51,18 @@ struct RenderSettings {
   bool baseline_label_map = false;
 };
 
+// Takes the SH-rest gradient rows of a batch of consecutive Gaussians as the
+// backward pass makes them (BackwardSettings::sh_rest_sink).
+class ShRestGradientSink {
+ public:
+  virtual ~ShRestGradientSink() = default;
+  // Gaussians first .. first + count - 1: row l of `rows` (kShRestFloats
+  // values) is Gaussian first + l's gradient where bit l of `visible` is set
+  // (it was in view); `rows` may be null when no bit is. Called once for
+  // every Gaussian, from several threads at once on disjoint batches.
+  virtual void take(size_t first, size_t count, const float* rows, uint32_t visible) = 0;
+};
+
 // What only the backward pass reads.
 struct BackwardSettings {
   // The gradient of the first this many occupancy maps reaches sigma* only,
@@ -66,6 +78,12 @@ struct BackwardSettings {
   // (GaussianAdam::step): about half the Gaussians of a training view, whose
   // 60 zeros would only be written to be read back.
   bool zero_culled_gradients = true;
+  // When set, the SH-rest gradients go to it a batch at a time and
+  // GaussianGradients::sh_rest is left unwritten: the trainer's Adam steps
+  // those rows while they are in cache, where a separate step read the
+  // parameters, gradients and moments back from memory (the largest group,
+  // 45 of a Gaussian's 59 values). Not with camera_gradient.
+  ShRestGradientSink* sh_rest_sink = nullptr;
 };
 
 // The images are ImageBuffers: cache-line aligned (whole-line streaming

@@ -33,9 +33,7 @@ const std::vector<float>& group_gradients(const GaussianGradients& g, ParamGroup
 
 namespace {
 
-struct AdamStep {
-  float b1, b2, step_size, inv_bc2_sqrt, eps;
-};
+using AdamStep = GaussianAdam::StepConstants;
 
 // torch.optim.Adam's update of n values. Plain pointers that do not alias, so
 // that the compiler vectorises it (the file is built with -fno-math-errno,
@@ -131,7 +129,43 @@ void adam_over_gaussians(float* p, const float* grad, float* m, float* v, size_t
   }
 }
 
+// The SH rest's values of a Gaussian that can move at this SH degree.
+size_t sh_rest_active(int active_sh_degree) {
+  return size_t(3 * ((active_sh_degree + 1) * (active_sh_degree + 1) - 1));
+}
+
 }  // namespace
+
+GaussianAdam::StepConstants GaussianAdam::count_step(ParamGroup g, float lr) {
+  State& s = state_[int(g)];
+  ++s.step;
+  const double bc1 = 1 - std::pow(double(options_.beta1), double(s.step));
+  const double bc2_sqrt = std::sqrt(1 - std::pow(double(options_.beta2), double(s.step)));
+  return {options_.beta1, options_.beta2, float(lr / bc1), float(1 / bc2_sqrt), options_.eps};
+}
+
+GaussianAdam::ShRestStep GaussianAdam::begin_sh_rest_step(GaussianModel& model, float lr,
+                                                          int active_sh_degree, Culled culled) {
+  State& s = state_[int(ParamGroup::kShRest)];
+  if (model.sh_rest.size() != s.m.size())
+    throw std::logic_error("Adam: size mismatch in group sh_rest");
+  return ShRestStep(model.sh_rest.data(), s.m.data(), s.v.data(), sh_rest_active(active_sh_degree),
+                    culled == Culled::kKeep, count_step(ParamGroup::kShRest, lr));
+}
+
+// A Gaussian out of view steps with a zero gradient unless kept: with
+// kReadGradients its gradient would be the renderer's zeros, the same bits.
+void GaussianAdam::ShRestStep::take(size_t first, size_t count, const float* rows,
+                                    uint32_t visible) {
+  for (size_t l = 0; l < count; ++l) {
+    const size_t at = size_t(kShRestFloats) * (first + l);
+    if (visible >> l & 1)
+      adam_update<false>(values_ + at, rows + size_t(kShRestFloats) * l, m_ + at, v_ + at, active_,
+                         constants_);
+    else if (!keep_culled_)
+      adam_update<true>(values_ + at, nullptr, m_ + at, v_ + at, active_, constants_);
+  }
+}
 
 GaussianAdam::GaussianAdam(size_t n, AdamOptions options) : options_(options) {
   size_ = 0;
@@ -153,17 +187,10 @@ void GaussianAdam::step(GaussianModel& model, const GaussianGradients& grads,
     if (p.size() != s.m.size() || grad.size() != p.size() ||
         (visible && grads.visible.size() != size_))
       throw std::logic_error(std::string("Adam: size mismatch in group ") + group_name(g));
-    ++s.step;
-    const double bc1 = 1 - std::pow(double(options_.beta1), double(s.step));
-    const double bc2_sqrt = std::sqrt(1 - std::pow(double(options_.beta2), double(s.step)));
-    const float step_size = float(lr[gi] / bc1), inv_bc2_sqrt = float(1 / bc2_sqrt);
-    const float b1 = options_.beta1, b2 = options_.beta2, eps = options_.eps;
+    const AdamStep a = count_step(g, lr[gi]);
     const size_t width = size_t(group_width(g));
     // Values of each Gaussian that can move: all, or the active SH bands.
-    const size_t active = g == ParamGroup::kShRest
-                              ? size_t(3 * ((active_sh_degree + 1) * (active_sh_degree + 1) - 1))
-                              : width;
-    const AdamStep a{b1, b2, step_size, inv_bc2_sqrt, eps};
+    const size_t active = g == ParamGroup::kShRest ? sh_rest_active(active_sh_degree) : width;
     // About 64k values a task, whatever the group's width.
     const size_t grain = std::max<size_t>(1, (size_t(1) << 16) / width);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, size_, grain), [&](const auto& r) {

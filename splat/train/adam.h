@@ -54,6 +54,16 @@ class GaussianAdam {
             const std::array<bool, kParamGroups>& skip = {}, int active_sh_degree = kMaxShDegree,
             Culled culled = Culled::kReadGradients);
 
+  // The SH rest's step taken inside the renderer's backward pass, a batch
+  // of Gaussians at a time as their gradients are made
+  // (BackwardSettings::sh_rest_sink): the same step to the bit as step()
+  // gives the group, without its pass over memory. begin_sh_rest_step counts
+  // the group's step; the caller then skips the group in step(). The model
+  // must outlive it and not change size meanwhile.
+  class ShRestStep;
+  ShRestStep begin_sh_rest_step(GaussianModel& model, float learning_rate, int active_sh_degree,
+                                Culled culled);
+
   // Densification: new Gaussians appended with zero moments; removal keeps
   // the Gaussians with keep[i] != 0 in order.
   void append(size_t count);
@@ -68,15 +78,43 @@ class GaussianAdam {
   void load(std::istream& in);
   bool operator==(const GaussianAdam&) const = default;
 
+  // The constants of one group's step.
+  struct StepConstants {
+    float b1, b2, step_size, inv_bc2_sqrt, eps;
+  };
+
  private:
   struct State {
     std::vector<float> m, v;
     int64_t step = 0;
     bool operator==(const State&) const = default;
   };
+  // Counts group g's step; its constants at learning rate lr.
+  StepConstants count_step(ParamGroup g, float lr);
+
   AdamOptions options_;
   size_t size_ = 0;
   std::array<State, kParamGroups> state_;
+};
+
+class GaussianAdam::ShRestStep final : public ShRestGradientSink {
+ public:
+  void take(size_t first, size_t count, const float* rows, uint32_t visible) override;
+
+ private:
+  friend class GaussianAdam;
+  ShRestStep(float* values, float* m, float* v, size_t active, bool keep_culled,
+             StepConstants constants)
+      : values_(values),
+        m_(m),
+        v_(v),
+        active_(active),
+        keep_culled_(keep_culled),
+        constants_(constants) {}
+  float *values_, *m_, *v_;
+  size_t active_;  // values of a Gaussian that move: the active SH bands'
+  bool keep_culled_;
+  StepConstants constants_;
 };
 
 }  // namespace splat

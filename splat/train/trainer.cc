@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <optional>
 
 #include "splat/atomic_file.h"
 #include "splat/dataset_layout.h"
@@ -206,8 +207,10 @@ void Trainer::train_until(int until,
     IterationStats st;
     const Step step = start_step(st);
     forward_and_loss(step, st);
-    backward(step, st);
-    optimiser_step(step, st, densify_or_reset(step, st));
+    const bool sh_rest_stepped = backward(step, st);
+    std::array<bool, kParamGroups> skip = densify_or_reset(step, st);
+    skip[int(ParamGroup::kShRest)] |= sh_rest_stepped;
+    optimiser_step(step, st, skip);
     st.gaussians = model_.size();
     if (on_iteration) on_iteration(st);
   }
@@ -321,19 +324,36 @@ void Trainer::use_half_view(Step& step, IterationStats& st) {
 
 // The exposure transform's step, the renderer's backward pass into the
 // Gaussians' gradients, and the camera's correction when poses are refined.
-void Trainer::backward(const Step& step, const IterationStats& st) {
+bool Trainer::backward(const Step& step, const IterationStats& st) {
   const TrainOptions& o = options_;
   const int it = st.iteration;
   if (compensates_exposure()) {
     // The last iteration of the schedule takes no step, as for the Gaussians.
-    const float lr = it < o.total_iterations ? exposure_learning_rate(it) : 0.f;
+    const float lr = steps(it) ? exposure_learning_rate(it) : 0.f;
     exposure_.backward_and_step(step.view, render_out_.color, out_grads_.color, lr,
                                 o.exposure.regularization);
   }
-  renderer_.backward(model_, step.camera, step.settings, step.backward, *render_state_, out_grads_,
+  BackwardSettings settings = step.backward;
+  std::optional<GaussianAdam::ShRestStep> sh_rest_step;
+  if (steps(it) && !densifies(it) && !settings.camera_gradient && o.lr_sh_rest > 0) {
+    sh_rest_step.emplace(
+        adam_.begin_sh_rest_step(model_, o.lr_sh_rest, sh_degree_, culled_gaussians()));
+    settings.sh_rest_sink = &*sh_rest_step;
+  }
+  renderer_.backward(model_, step.camera, step.settings, settings, *render_state_, out_grads_,
                      grads_);
-  if (step.backward.camera_gradient && it < o.total_iterations)
+  if (settings.camera_gradient && steps(it))
     poses_.step(step.view, grads_.camera, pose_learning_rate(it));
+  return sh_rest_step.has_value();
+}
+
+bool Trainer::densifies(int it) const {
+  const TrainOptions& o = options_;
+  return it < o.densify_until && it > o.densify_from && it % o.densify_every == 0;
+}
+
+GaussianAdam::Culled Trainer::culled_gaussians() const {
+  return options_.sparse_adam ? GaussianAdam::Culled::kKeep : GaussianAdam::Culled::kZeroGradients;
 }
 
 std::array<bool, kParamGroups> Trainer::densify_or_reset(const Step& step, IterationStats& st) {
@@ -342,7 +362,7 @@ std::array<bool, kParamGroups> Trainer::densify_or_reset(const Step& step, Itera
   std::array<bool, kParamGroups> skip{};
   if (it >= o.densify_until) return skip;
   stats_.add(grads_, render_out_.radii, step.ndc_scale);
-  if (it > o.densify_from && it % o.densify_every == 0) {
+  if (densifies(it)) {
     st.densified = densify_and_prune(model_, adam_, stats_, extent_, it > o.opacity_reset_every,
                                      rng_, o.densify);
     skip.fill(true);  // every parameter array was replaced
@@ -358,9 +378,9 @@ std::array<bool, kParamGroups> Trainer::densify_or_reset(const Step& step, Itera
 // Adam's step of every parameter array (none on the schedule's last
 // iteration); in stage two with protection, sigma* kept in its mask.
 void Trainer::optimiser_step(const Step& step, const IterationStats& st,
-                             const std::array<bool, kParamGroups>& skip) {
+                             std::array<bool, kParamGroups> skip) {
   const TrainOptions& o = options_;
-  if (st.iteration >= o.total_iterations) return;
+  if (!steps(st.iteration)) return;
   const std::array<float, kParamGroups> lr = {
       st.lr_position,
       o.lr_sh_dc,
@@ -369,8 +389,7 @@ void Trainer::optimiser_step(const Step& step, const IterationStats& st,
       o.lr_scale,
       o.lr_rotation,
       model_.has_instance_opacity ? o.lr_instance_opacity : 0.f};
-  adam_.step(model_, grads_, lr, skip, sh_degree_,
-             o.sparse_adam ? GaussianAdam::Culled::kKeep : GaussianAdam::Culled::kZeroGradients);
+  adam_.step(model_, grads_, lr, skip, sh_degree_, culled_gaussians());
   if (step.objects && protects())
     keep_in_mask(model_.instance_opacity_logits, model_.opacity_logits, protected_);
 }

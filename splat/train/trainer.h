@@ -229,12 +229,19 @@ class Trainer {
   Step start_step(IterationStats& st);
   void use_half_view(Step& step, IterationStats& st);
   void forward_and_loss(const Step& step, IterationStats& st);
-  void backward(const Step& step, const IterationStats& st);
+  // Whether iteration it takes Adam's step, and whether it densifies.
+  bool steps(int it) const { return it < options_.total_iterations; }
+  bool densifies(int it) const;
+  GaussianAdam::Culled culled_gaussians() const;
+  // Returns whether the SH rest took its Adam step inside the renderer's
+  // backward pass (GaussianAdam::begin_sh_rest_step): on every iteration
+  // that steps, does not densify and needs no camera gradient.
+  bool backward(const Step& step, const IterationStats& st);
   // Densification and opacity resets; which parameter arrays Adam must not
   // step (they were replaced or reset).
   std::array<bool, kParamGroups> densify_or_reset(const Step& step, IterationStats& st);
   void optimiser_step(const Step& step, const IterationStats& st,
-                      const std::array<bool, kParamGroups>& skip);
+                      std::array<bool, kParamGroups> skip);
 
   TrainOptions options_;
   std::unique_ptr<Scene> scene_;

@@ -478,6 +478,64 @@ TEST(RendererBackward, CulledGradientsLeftUnwrittenWhenAsked) {
   EXPECT_GT(culled, 0u) << "the scene must have culled Gaussians";
 }
 
+// A sink of the SH-rest gradients (the trainer's Adam step) takes every
+// Gaussian once, in view where `visible` says so, with the rows the gradient
+// array gets without it; the array is then left unwritten.
+TEST(RendererBackward, ShRestSinkTakesTheRowsTheArrayWouldGet) {
+  struct Collect final : ShRestGradientSink {
+    std::vector<float> rows;
+    std::vector<int> taken;
+    std::vector<uint8_t> visible;
+    void take(size_t first, size_t count, const float* batch, uint32_t in_view) override {
+      for (size_t l = 0; l < count; ++l) {
+        ++taken[first + l];
+        visible[first + l] = in_view >> l & 1;
+        if (in_view >> l & 1)
+          std::copy_n(batch + kShRestFloats * l, kShRestFloats, &rows[kShRestFloats * (first + l)]);
+      }
+    }
+  };
+  const GaussianModel m = random_scene(70, 31);  // more than one batch, some culled
+  const Camera cam = test_camera(32, 24);
+  const CpuRenderer renderer;
+  RenderSettings s;
+  s.depth = false;
+  RenderOutputGradients g;
+  g.color = random_weights(3 * size_t(cam.width) * cam.height, 6);
+  std::unique_ptr<RenderState> state;
+  renderer.render(m, cam, s, &state);
+  const GaussianGradients plain = renderer.backward(m, cam, s, *state, g);
+  Collect sink;
+  sink.rows.assign(plain.sh_rest.size(), std::nanf(""));
+  sink.taken.assign(m.size(), 0);
+  sink.visible.assign(m.size(), 0);
+  BackwardSettings with_sink;
+  with_sink.zero_culled_gradients = false;
+  with_sink.sh_rest_sink = &sink;
+  GaussianGradients out;
+  out.resize(m.size());
+  out.sh_rest.assign(out.sh_rest.size(), std::nanf(""));
+  renderer.backward(m, cam, s, with_sink, *state, g, out);
+  EXPECT_EQ(sink.taken, std::vector<int>(m.size(), 1));
+  EXPECT_EQ(sink.visible, plain.visible);
+  size_t in_view = 0;
+  for (size_t i = 0; i < m.size(); ++i) {
+    in_view += plain.visible[i];
+    for (int k = 0; k < kShRestFloats; ++k) {
+      const size_t at = kShRestFloats * i + k;
+      ASSERT_TRUE(std::isnan(out.sh_rest[at])) << "sh_rest[" << at << "] written";
+      if (plain.visible[i]) {
+        ASSERT_EQ(sink.rows[at], plain.sh_rest[at]) << "sh_rest[" << at << "]";
+      }
+    }
+  }
+  EXPECT_GT(in_view, 16u);
+  EXPECT_LT(in_view, m.size()) << "the scene must have culled Gaussians";
+  // The one-by-one backward pass (camera gradient) has no batches to give.
+  with_sink.camera_gradient = true;
+  EXPECT_THROW(renderer.backward(m, cam, s, with_sink, *state, g, out), std::invalid_argument);
+}
+
 TEST(RendererBackward, BatchedBackwardWritesEveryGradient) {
   const GaussianModel m = random_scene(50, 28);
   const Camera cam = test_camera(32, 24);

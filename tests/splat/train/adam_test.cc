@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <vector>
@@ -169,6 +170,49 @@ TEST(Adam, KeepCulledWithAllInViewIsTheReferenceStep) {
           << group_name(ParamGroup(gi)) << " value " << k;
   }
   EXPECT_EQ(adam_dense.steps(ParamGroup::kMeans), adam_sparse.steps(ParamGroup::kMeans));
+}
+
+// The SH rest's step taken a batch at a time inside the backward pass (the
+// trainer's) is step()'s for the group to the bit, whatever the batches'
+// sizes, for Gaussians in view and out of view, at every culling rule and
+// with SH bands above the active degree; it counts the group's step once.
+TEST(Adam, ShRestStepInBatchesIsTheGroupsStep) {
+  const size_t n = 41;
+  GaussianModel start;
+  start.resize(n);
+  for (size_t k = 0; k < start.sh_rest.size(); ++k) start.sh_rest[k] = std::cos(float(k));
+  std::array<float, kParamGroups> lr{};
+  lr[int(ParamGroup::kShRest)] = 0.01f;
+  for (const auto culled : {GaussianAdam::Culled::kZeroGradients, GaussianAdam::Culled::kKeep})
+    for (int degree : {1, 3}) {
+      GaussianModel whole = start, batched = start;
+      GaussianAdam adam_whole(n), adam_batched(n);
+      for (int step = 1; step <= 4; ++step) {
+        GaussianGradients g;
+        g.resize(n);
+        g.visible.resize(n);
+        for (size_t i = 0; i < n; ++i) g.visible[i] = (i * 7 + size_t(step)) % 5 < 3 ? 1 : 0;
+        for (size_t k = 0; k < g.sh_rest.size(); ++k)
+          g.sh_rest[k] =
+              g.visible[k / kShRestFloats] ? std::sin(float(k + 17 * step)) : std::nanf("");
+        adam_whole.step(whole, g, lr, {}, degree, culled);
+        GaussianAdam::ShRestStep rest =
+            adam_batched.begin_sh_rest_step(batched, 0.01f, degree, culled);
+        // Batches of 16 and a short last one, as the backward pass makes them;
+        // the rows of Gaussians out of view hold NaN (unwritten).
+        for (size_t first = 0; first < n; first += 16) {
+          const size_t count = std::min<size_t>(16, n - first);
+          uint32_t visible = 0;
+          for (size_t l = 0; l < count; ++l) visible |= uint32_t(g.visible[first + l]) << l;
+          rest.take(first, count, &g.sh_rest[kShRestFloats * first], visible);
+        }
+      }
+      EXPECT_EQ(whole.sh_rest, batched.sh_rest)
+          << (culled == GaussianAdam::Culled::kKeep ? "kept" : "zero gradients") << ", degree "
+          << degree;
+      EXPECT_EQ(adam_whole, adam_batched);
+      EXPECT_EQ(adam_batched.steps(ParamGroup::kShRest), 4);
+    }
 }
 
 TEST(Adam, SkippedGroupsKeepValuesAndStepCount) {
