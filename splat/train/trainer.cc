@@ -323,7 +323,8 @@ void Trainer::use_half_view(Step& step, IterationStats& st) {
 }
 
 // The exposure transform's step, the renderer's backward pass into the
-// Gaussians' gradients, and the camera's correction when poses are refined.
+// Gaussians' gradients (and with it the SH rest's Adam step), and the
+// camera's correction when poses are refined.
 bool Trainer::backward(const Step& step, const IterationStats& st) {
   const TrainOptions& o = options_;
   const int it = st.iteration;
@@ -378,7 +379,7 @@ std::array<bool, kParamGroups> Trainer::densify_or_reset(const Step& step, Itera
 // Adam's step of every parameter array (none on the schedule's last
 // iteration); in stage two with protection, sigma* kept in its mask.
 void Trainer::optimiser_step(const Step& step, const IterationStats& st,
-                             std::array<bool, kParamGroups> skip) {
+                             const std::array<bool, kParamGroups>& skip) {
   const TrainOptions& o = options_;
   if (!steps(st.iteration)) return;
   const std::array<float, kParamGroups> lr = {

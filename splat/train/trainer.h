@@ -9,7 +9,9 @@
 // statistics, densify and prune, reset opacity; Adam step (skipped for the
 // parameters that densification or the reset replaced this iteration, as
 // torch skips parameters without a gradient, and after the schedule's last
-// iteration).
+// iteration). The SH rest's Adam step is taken inside the backward pass
+// where it can be (Trainer::backward): the same values, one pass over memory
+// fewer.
 
 #include <cstdint>
 #include <filesystem>
@@ -241,7 +243,7 @@ class Trainer {
   // step (they were replaced or reset).
   std::array<bool, kParamGroups> densify_or_reset(const Step& step, IterationStats& st);
   void optimiser_step(const Step& step, const IterationStats& st,
-                      std::array<bool, kParamGroups> skip);
+                      const std::array<bool, kParamGroups>& skip);
 
   TrainOptions options_;
   std::unique_ptr<Scene> scene_;
