@@ -102,6 +102,25 @@ RenderOutputGradients colour_alpha_depth_weights(const Camera& cam, unsigned see
   return g;
 }
 
+// A random scene of `gaussians` rendered in colour without depth, some of
+// it culled, and random weights on its colour: what the tests of what the
+// backward pass writes start from.
+struct ColourRender {
+  GaussianModel m;
+  Camera cam;
+  RenderSettings s;
+  RenderOutputGradients g;
+  std::unique_ptr<RenderState> state;
+};
+ColourRender colour_render(const CpuRenderer& renderer, size_t gaussians, unsigned scene_seed,
+                           unsigned weight_seed) {
+  ColourRender r{random_scene(gaussians, scene_seed), test_camera(32, 24), {}, {}, nullptr};
+  r.s.depth = false;
+  r.g.color = random_weights(3 * size_t(r.cam.width) * r.cam.height, weight_seed);
+  renderer.render(r.m, r.cam, r.s, &r.state);
+  return r;
+}
+
 double weighted_sum(const RenderOutputGradients& g, const reference::Output& o) {
   return dot(g.color, o.color) + dot(g.alpha, o.alpha) + dot(g.depth, o.depth);
 }
@@ -445,15 +464,9 @@ INSTANTIATE_TEST_SUITE_P(ShDegrees, BatchedMatchesOneAtATime, ::testing::Values(
 // zero_culled_gradients false (the trainer's): the visible Gaussians'
 // gradients as before, the culled ones' left as they were and marked.
 TEST(RendererBackward, CulledGradientsLeftUnwrittenWhenAsked) {
-  const GaussianModel m = random_scene(60, 29);  // some behind the camera or off the image
-  const Camera cam = test_camera(32, 24);
   const CpuRenderer renderer;
-  RenderSettings s;
-  s.depth = false;
-  RenderOutputGradients g;
-  g.color = random_weights(3 * size_t(cam.width) * cam.height, 5);
-  std::unique_ptr<RenderState> state;
-  renderer.render(m, cam, s, &state);
+  // Some Gaussians behind the camera or off the image.
+  const auto [m, cam, s, g, state] = colour_render(renderer, 60, 29, 5);
   const GaussianGradients zeroed = renderer.backward(m, cam, s, *state, g);
   BackwardSettings unwritten;
   unwritten.zero_culled_gradients = false;
@@ -495,15 +508,8 @@ TEST(RendererBackward, ShRestSinkTakesTheRowsTheArrayWouldGet) {
       }
     }
   };
-  const GaussianModel m = random_scene(70, 31);  // more than one batch, some culled
-  const Camera cam = test_camera(32, 24);
   const CpuRenderer renderer;
-  RenderSettings s;
-  s.depth = false;
-  RenderOutputGradients g;
-  g.color = random_weights(3 * size_t(cam.width) * cam.height, 6);
-  std::unique_ptr<RenderState> state;
-  renderer.render(m, cam, s, &state);
+  const auto [m, cam, s, g, state] = colour_render(renderer, 70, 31, 6);  // batches, some culled
   const GaussianGradients plain = renderer.backward(m, cam, s, *state, g);
   Collect sink;
   sink.rows.assign(plain.sh_rest.size(), std::nanf(""));
