@@ -50,6 +50,10 @@ late_at="${LATE_AT:-5000}"
 model="${MODEL:-}"
 labels="${LABELS:-}"
 bin="$build/stages"
+# Odd rounds would time the first count order once more than the other,
+# and on a VM whose views differ in cost that order's ratio is not the other's.
+[[ "$rounds" =~ ^[0-9]+$ ]] && [ "$rounds" -gt 0 ] && [ $((rounds % 2)) -eq 0 ] ||
+  fail "ROUNDS=$rounds: must be a positive even number (each count order as often as the other)"
 mkdir -p "$out/logs"
 out="$(cd "$out" && pwd)"
 logs="$out/logs"
