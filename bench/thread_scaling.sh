@@ -22,8 +22,11 @@
 #              only when LABELS is set.
 # Each count's time per iteration is the median of its steps in the runs'
 # train_log.jsonl, the first step of each left out (bench/timing.sh), and
-# the speed-up the ratio of the two medians; the views are decoded before
-# the first iteration, so no step waits on a photo.
+# the speed-up the ratio of the two medians. The summary also gives the
+# paired speed-up: the median over iterations of each iteration's 1-thread
+# time over its 2-thread time, the two rounds of a pair timing it once with
+# each count. The views are decoded before the first iteration, so no step
+# waits on a photo.
 #
 # Environment: DOWNSCALE (1), TRAIN_OPTS (scene options, e.g. "--split
 # lerf"), LEARN_OPTS (op2gs-learn's, e.g. "--id-maps object_mask"), STEPS
@@ -105,6 +108,22 @@ median_of() {  # FILE THREADS
   awk -v t="$2" '$1 == t { print $2 }' "$1" | median
 }
 
+# The median over iterations of each iteration's own speed-up: rounds 2r - 1
+# and 2r time the same iterations (line by line) with the counts swapped, so
+# each line pair is one iteration, its view and its model, on 1 and on 2
+# threads. Less swayed than the ratio of medians by which views fall on
+# which count within a round.
+paired_speed_up() {  # PHASE
+  local phase="$1" round
+  for round in $(seq 1 2 "$rounds"); do
+    local a="$out/steps_${phase}_round${round}.txt" b="$out/steps_${phase}_round$((round + 1)).txt"
+    [ "$(wc -l < "$a")" = "$(wc -l < "$b")" ] || fail "$a, $b: different numbers of steps"
+    paste -d ' ' "$a" "$b" | awk -v f="$a" '
+      $1 == $3 { print f ": line " NR ": the same thread count in both rounds" > "/dev/stderr"; exit 1 }
+      { print ($1 == 1 ? $2 / $4 : $4 / $2) }'
+  done | median
+}
+
 phases=(early)
 [ -n "$model" ] && phases+=(late)
 [ -n "$labels" ] && phases+=(stage-two)
@@ -133,9 +152,11 @@ done
 rm -rf "$out/run"
 
 echo
-echo "phase      1 thread s/it  2 threads s/it  speed-up (medians of all rounds' steps)"
+echo "phase      1 thread s/it  2 threads s/it  speed-up (ratio of the medians of all rounds' steps)  paired (median of each iteration's own)"
 for phase in "${phases[@]}"; do
   cat "$out"/steps_"${phase}"_round*.txt > "$out/steps_${phase}.txt"
   one=$(median_of "$out/steps_${phase}.txt" 1) two=$(median_of "$out/steps_${phase}.txt" 2)
-  awk -v p="$phase" -v a="$one" -v b="$two" 'BEGIN { printf "%-10s %14s %15s  %.2fx\n", p, a, b, a / b }'
+  paired=$(paired_speed_up "$phase") || fail "$phase: the rounds' steps do not pair up"
+  awk -v p="$phase" -v a="$one" -v b="$two" -v c="$paired" \
+    'BEGIN { printf "%-10s %14s %15s  %.2fx  %.2fx\n", p, a, b, a / b, c }'
 done
